@@ -1,0 +1,29 @@
+# Every external dependency is found here, from Debian bookworm's packages.
+# Nothing is downloaded at configure time.
+find_package(Threads REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(TBB REQUIRED)
+find_package(OpenMesh REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(CLI11 REQUIRED)
+if(ROSY_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(ROSY_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()
+
+# Debian's OpenImageIO target lists /usr/include/opencv4, which does not exist
+# unless OpenCV is installed; CMake then refuses to use the target. Drop it.
+foreach(_oiio_target OpenImageIO::OpenImageIO OpenImageIO::OpenImageIO_Util)
+  if(TARGET ${_oiio_target})
+    get_target_property(_dirs ${_oiio_target} INTERFACE_INCLUDE_DIRECTORIES)
+    if(_dirs)
+      list(FILTER _dirs EXCLUDE REGEX "opencv4")
+      set_target_properties(${_oiio_target} PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_dirs}")
+    endif()
+  endif()
+endforeach()

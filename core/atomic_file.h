@@ -1,0 +1,23 @@
+#pragma once
+/// \file atomic_file.h
+/// Output files are written to a temporary file in the destination folder and
+/// renamed into place, so a failed render never leaves a half-written file and
+/// never touches what the user already had.
+
+#include <functional>
+#include <string>
+
+namespace rosy {
+
+/// Checks before any work is done that `path` can be written: its folder exists,
+/// is a folder and is writable, and `path` itself is not a folder.
+/// Throws IoError naming the path otherwise.
+void checkWritable(const std::string &path);
+
+/// Calls write(tmpPath) to produce the file at a temporary path next to `path`,
+/// then renames it over `path`. If write throws or the rename fails, the
+/// temporary file is removed, `path` is left as it was, and the error propagates
+/// (rename failures as IoError).
+void writeAtomically(const std::string &path, const std::function<void(const std::string &)> &write);
+
+} // namespace rosy

@@ -1,0 +1,160 @@
+#include "field/mesh.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace rosy::field {
+
+Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
+                         const std::string &name) {
+    Mesh m;
+    m.m_name = name;
+    const int nV = int(positions.size());
+    const int nF = int(faces.size());
+    const FileLoc loc{name};
+    for (int v = 0; v < nV; ++v)
+        if (!positions[v].allFinite())
+            throw InputError(loc, "vertex " + std::to_string(v) + " has a non-finite coordinate",
+                             "fix or remove that vertex");
+    for (int f = 0; f < nF; ++f) {
+        const Face &t = faces[f];
+        for (int k = 0; k < 3; ++k)
+            if (t[k] < 0 || t[k] >= nV)
+                throw InputError(loc, "face " + std::to_string(f) + " uses vertex index " +
+                                          std::to_string(t[k]) + " outside [0, " +
+                                          std::to_string(nV) + ")");
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+            throw InputError(loc, "face " + std::to_string(f) + " repeats a vertex");
+    }
+
+    // Twins by sorting directed edges (tail, head). Each directed edge must be
+    // unique: a repeat means an edge with more than two faces or two faces that
+    // disagree on orientation.
+    const int nH = 3 * nF;
+    std::vector<uint64_t> key(nH);
+    for (int h = 0; h < nH; ++h) {
+        int a = faces[h / 3][h % 3], b = faces[h / 3][(h % 3 + 1) % 3];
+        key[h] = (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+    }
+    std::vector<int> order(nH);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int x, int y) {
+        return key[x] != key[y] ? key[x] < key[y] : x < y;
+    });
+    for (int i = 1; i < nH; ++i)
+        if (key[order[i]] == key[order[i - 1]]) {
+            int h = order[i];
+            int a = faces[h / 3][h % 3], b = faces[h / 3][(h % 3 + 1) % 3];
+            throw InputError(loc,
+                             "edge (" + std::to_string(a) + ", " + std::to_string(b) +
+                                 ") is used in the same direction by faces " +
+                                 std::to_string(order[i - 1] / 3) + " and " + std::to_string(h / 3),
+                             "the surface is non-manifold or inconsistently oriented there; "
+                             "load it through loadMesh() to repair it");
+        }
+    m.m_twin.assign(nH, -1);
+    for (int h = 0; h < nH; ++h) {
+        uint64_t rev = (key[h] << 32) | (key[h] >> 32);
+        auto it = std::lower_bound(order.begin(), order.end(), rev,
+                                   [&](int x, uint64_t k) { return key[x] < k; });
+        if (it != order.end() && key[*it] == rev) m.m_twin[h] = *it;
+    }
+
+    // Edges: one id per halfedge pair, numbered in halfedge order (deterministic).
+    m.m_halfedgeEdge.assign(nH, -1);
+    for (int h = 0; h < nH; ++h) {
+        if (m.m_halfedgeEdge[h] >= 0) continue;
+        int e = int(m.m_edgeHalfedge.size());
+        m.m_edgeHalfedge.push_back(h);
+        m.m_halfedgeEdge[h] = e;
+        if (m.m_twin[h] >= 0) m.m_halfedgeEdge[m.m_twin[h]] = e;
+    }
+
+    // One-rings in CCW order: the CCW successor of outgoing h is twin(prev(h)).
+    std::vector<int> count(nV + 1, 0);
+    for (int h = 0; h < nH; ++h) ++count[faces[h / 3][h % 3] + 1];
+    m.m_ringOffset.assign(nV + 1, 0);
+    for (int v = 0; v < nV; ++v) m.m_ringOffset[v + 1] = m.m_ringOffset[v] + count[v + 1];
+    std::vector<int> anyOut(nV, -1), boundaryOut(nV, -1);
+    for (int h = 0; h < nH; ++h) {
+        int v = faces[h / 3][h % 3];
+        if (anyOut[v] < 0) anyOut[v] = h;
+        if (m.m_twin[h] < 0) {
+            if (boundaryOut[v] >= 0)
+                throw InputError(loc, "vertex " + std::to_string(v) +
+                                          " is non-manifold (it joins two boundary fans)",
+                                 "load it through loadMesh() to split it");
+            boundaryOut[v] = h;
+        }
+    }
+    m.m_ring.resize(nH);
+    m.m_boundaryVertex.assign(nV, 0);
+    for (int v = 0; v < nV; ++v) {
+        if (anyOut[v] < 0)
+            throw InputError(loc, "vertex " + std::to_string(v) + " is not used by any face",
+                             "remove isolated vertices or load through loadMesh()");
+        int start = boundaryOut[v] >= 0 ? boundaryOut[v] : anyOut[v];
+        m.m_boundaryVertex[v] = boundaryOut[v] >= 0;
+        int n = 0, h = start;
+        const int expected = m.m_ringOffset[v + 1] - m.m_ringOffset[v];
+        do {
+            if (n >= expected) break;
+            m.m_ring[m.m_ringOffset[v] + n++] = h;
+            h = m.m_twin[prev(h)];
+        } while (h >= 0 && h != start);
+        if (n != expected)
+            throw InputError(loc, "vertex " + std::to_string(v) +
+                                      " is non-manifold (its faces form more than one fan)",
+                             "load it through loadMesh() to split it");
+    }
+    m.m_positions = std::move(positions);
+    m.m_faces = std::move(faces);
+    return m;
+}
+
+Vec3 Mesh::faceNormalArea(int f) const {
+    const Face &t = m_faces[f];
+    return (m_positions[t[1]] - m_positions[t[0]]).cross(m_positions[t[2]] - m_positions[t[0]]);
+}
+
+Vec3 Mesh::faceNormal(int f) const {
+    Vec3 n = faceNormalArea(f);
+    double len = n.norm();
+    return len > 0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+double Mesh::cornerAngle(int h) const {
+    Vec3 a = vector(h);
+    Vec3 b = position(tail(prev(h))) - position(tail(h));
+    // atan2 of |cross| and dot is accurate for tiny and near-pi angles alike.
+    return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+Vec3 Mesh::vertexNormal(int v) const {
+    Vec3 n = Vec3::Zero();
+    for (const int *it = outgoingBegin(v); it != outgoingEnd(v); ++it)
+        n += cornerAngle(*it) * faceNormal(faceOf(*it));
+    double len = n.norm();
+    return len > 0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+void Mesh::bounds(Vec3 &lo, Vec3 &hi) const {
+    lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    hi = -lo;
+    for (const Vec3 &p : m_positions) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+}
+
+double Mesh::meanEdgeLength() const {
+    if (m_edgeHalfedge.empty()) return 0;
+    double sum = 0;
+    for (int h : m_edgeHalfedge) sum += vector(h).norm();
+    return sum / double(m_edgeHalfedge.size());
+}
+
+} // namespace rosy::field
