@@ -1,1 +1,232 @@
-// placeholder
+#include "field/design.h"
+
+#include "core/diagnostics.h"
+#include "core/error.h"
+#include "field/smoothing.h"
+
+#include <Eigen/SparseLU>
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+namespace rosy::field {
+namespace {
+
+// Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closestOnTriangle(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Vec3 bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+    const Vec3 cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const double denom = va + vb + vc;
+    if (!(std::abs(denom) > 0)) return a; // degenerate triangle
+    return a + ab * (vb / denom) + ac * (vc / denom);
+}
+
+// Vertex components through edges (ids by smallest vertex, deterministic).
+std::vector<int> vertexComponents(const Mesh &mesh, int &nComp) {
+    std::vector<int> parent(mesh.nVertices());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (int e = 0; e < mesh.nEdges(); ++e) {
+        int h = mesh.edgeHalfedge(e);
+        int a = find(mesh.tail(h)), b = find(mesh.head(h));
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+    std::vector<int> id(mesh.nVertices(), -1), comp(mesh.nVertices());
+    nComp = 0;
+    for (int v = 0; v < mesh.nVertices(); ++v) {
+        int r = find(v);
+        if (id[r] < 0) id[r] = nComp++;
+        comp[v] = id[r];
+    }
+    return comp;
+}
+
+std::string fmtPoint(const Vec3 &p) {
+    std::ostringstream os;
+    os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+    return os.str();
+}
+
+} // namespace
+
+SnappedElement snapToSurface(const Mesh &mesh, const Vec3 &p) {
+    SnappedElement best;
+    best.distance = std::numeric_limits<double>::infinity();
+    for (int f = 0; f < mesh.nFaces(); ++f) {
+        const Face &t = mesh.face(f);
+        Vec3 q = closestOnTriangle(p, mesh.position(t[0]), mesh.position(t[1]), mesh.position(t[2]));
+        double d = (q - p).norm();
+        if (d < best.distance) best = {f, q, d};
+    }
+    return best;
+}
+
+void elementConstraints(const TangentFrames &frames, int nSym,
+                        const std::vector<DesignElement> &elements, std::vector<char> &fixed,
+                        Eigen::VectorXcd &values) {
+    const Mesh &mesh = frames.mesh();
+    fixed.assign(mesh.nVertices(), 0);
+    values = Eigen::VectorXcd::Zero(mesh.nVertices());
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    const double diag = (hi - lo).norm();
+    const DesignOptions defaults;
+    for (size_t k = 0; k < elements.size(); ++k) {
+        const DesignElement &el = elements[k];
+        const FileLoc loc{el.label.empty() ? "design element " + std::to_string(k) : el.label};
+        if (el.order < -1 || el.order > 1)
+            throw InputError(loc, "design element order " + std::to_string(el.order) +
+                                      " is not supported", "use -1, 0 or 1");
+        if (!(el.strength > 0) || !std::isfinite(el.strength))
+            throw InputError(loc, "design element strength must be a positive number");
+        if (!el.position.allFinite() || !std::isfinite(el.phaseRad))
+            throw InputError(loc, "design element position or phase is not finite");
+        SnappedElement snap = snapToSurface(mesh, el.position);
+        if (snap.face < 0 || snap.distance > defaults.maxSnapDistance * diag)
+            throw InputError(loc, "design element at " + fmtPoint(el.position) + " is " +
+                                      std::to_string(snap.distance) +
+                                      " units from the surface (mesh size " + std::to_string(diag) + ")",
+                             "place it on the surface");
+        const int f = snap.face;
+        if (mesh.faceArea(f) <= 1e-14 * diag * diag)
+            throw InputError(loc, "design element lands in degenerate face " + std::to_string(f),
+                             "move it slightly");
+        const Face &t = mesh.face(f);
+        // Element centre in the face frame: the centroid for L ≠ 0 (keeps the
+        // singularity strictly inside f), the snapped point for L = 0 (irrelevant there).
+        Vec2 centre = Vec2::Zero();
+        for (int c = 0; c < 3; ++c) centre += frames.toFace2D(f, mesh.position(t[c])) / 3.0;
+        double theta0 = el.phaseRad;
+        if (el.order == 0) {
+            const Vec3 d = el.direction;
+            Vec2 d2(d.dot(frames.faceAxisX(f)), d.dot(frames.faceAxisY(f)));
+            if (!d.allFinite() || d2.norm() < 1e-12 * std::max(1.0, d.norm()))
+                throw InputError(loc, "design element direction is zero or normal to the surface",
+                                 "give a direction along the surface");
+            theta0 = std::atan2(d2.y(), d2.x());
+        }
+        for (int c = 0; c < 3; ++c) {
+            Vec2 q = frames.toFace2D(f, mesh.position(t[c])) - centre;
+            const double theta = std::atan2(q.y(), q.x());
+            // Eq. 13 in the face frame, then rotated into the vertex frame.
+            const double faceAngle = el.order * theta + nSym * theta0;
+            const double vertexAngle = faceAngle - nSym * frames.vertexToFace(3 * f + c);
+            values[t[c]] += std::polar(el.strength, vertexAngle);
+            fixed[t[c]] = 1;
+        }
+    }
+}
+
+Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
+                                 const std::vector<char> &fixed, const Eigen::VectorXcd &values,
+                                 const DesignOptions &options) {
+    const Mesh &mesh = frames.mesh();
+    const int nV = mesh.nVertices();
+    const Eigen::SparseMatrix<double> W = relaxationWeights(mesh, options.weights);
+    const double g = options.guide ? options.guideWeight : 0.0;
+
+    std::vector<int> freeId(nV, -1);
+    int nFree = 0;
+    for (int v = 0; v < nV; ++v)
+        if (fixed.empty() || !fixed[v]) freeId[v] = nFree++;
+    Eigen::VectorXcd result = values.size() == nV ? values : Eigen::VectorXcd::Zero(nV);
+    if (nFree == 0) return result;
+
+    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(nFree);
+    std::vector<Eigen::Triplet<Complex>> trip;
+    trip.reserve(nFree + 2 * mesh.nEdges());
+    for (int v = 0; v < nV; ++v) {
+        if (freeId[v] < 0) continue;
+        trip.emplace_back(freeId[v], freeId[v], Complex(1.0 + g, 0.0));
+        if (g > 0) rhs[freeId[v]] += g * options.guide->u[v];
+    }
+    // Row i: −ω_ij T_ij u_j, with T_ij the transport from j to i across the edge.
+    auto addOffDiagonal = [&](int i, int j, Complex r) {
+        if (freeId[i] < 0) return;
+        const Complex a = -W.coeff(i, j) * r;
+        if (freeId[j] >= 0)
+            trip.emplace_back(freeId[i], freeId[j], a);
+        else
+            rhs[freeId[i]] -= a * result[j];
+    };
+    for (int e = 0; e < mesh.nEdges(); ++e) {
+        const int h = mesh.edgeHalfedge(e);
+        const int i = mesh.tail(h), j = mesh.head(h);
+        const Complex r = std::polar(1.0, nSym * frames.transportAngle(h)); // j -> i
+        addOffDiagonal(i, j, r);
+        addOffDiagonal(j, i, std::conj(r));
+    }
+    SparseMatrixC K(nFree, nFree);
+    K.setFromTriplets(trip.begin(), trip.end());
+    K.makeCompressed();
+    Eigen::SparseLU<SparseMatrixC, Eigen::COLAMDOrdering<int>> lu;
+    lu.compute(K);
+    if (lu.info() != Eigen::Success)
+        throw std::runtime_error("relaxation: sparse LU factorization failed (" + lu.lastErrorMessage() +
+                                 "); the mesh may have a component without constraints");
+    Eigen::VectorXcd x = lu.solve(rhs);
+    if (lu.info() != Eigen::Success || !x.allFinite())
+        throw std::runtime_error("relaxation: sparse LU solve failed");
+    for (int v = 0; v < nV; ++v)
+        if (freeId[v] >= 0) result[v] = x[freeId[v]];
+    return result;
+}
+
+RosyField designField(const TangentFrames &frames, int nSym, const std::vector<DesignElement> &elements,
+                      const DesignOptions &options) {
+    const Mesh &mesh = frames.mesh();
+    if (elements.empty() && !options.guide)
+        throw InputError(FileLoc{mesh.name()}, "a designed field needs at least one design element",
+                         "add field.elements or use source: curvature or smoothest");
+    std::vector<char> fixed;
+    Eigen::VectorXcd values;
+    elementConstraints(frames, nSym, elements, fixed, values);
+
+    // A component without any element (and no guide) would make the system
+    // singular: give it the globally smoothest field instead, and say so.
+    int nComp = 0;
+    const std::vector<int> comp = vertexComponents(mesh, nComp);
+    std::vector<char> constrained(nComp, 0);
+    for (int v = 0; v < mesh.nVertices(); ++v)
+        if (fixed[v]) constrained[comp[v]] = 1;
+    RosyField smoothest;
+    int nUnconstrained = 0;
+    if (!options.guide)
+        for (int c = 0; c < nComp; ++c) nUnconstrained += !constrained[c];
+    if (nUnconstrained > 0) {
+        smoothest = smoothestField(frames, nSym).field;
+        for (int v = 0; v < mesh.nVertices(); ++v)
+            if (!constrained[comp[v]]) {
+                fixed[v] = 1;
+                values[v] = smoothest.u[v];
+            }
+        warn(mesh.name(), "unconstrained-components",
+             std::to_string(nUnconstrained) +
+                 " mesh component(s) hold no design element; they get the globally smoothest field");
+    }
+    RosyField field;
+    field.nSym = nSym;
+    field.u = solveRelaxation(frames, nSym, fixed, values, options);
+    return field;
+}
+
+} // namespace rosy::field

@@ -13,6 +13,7 @@
 /// mesh_io.h repair raw files into that form and warn about each repair.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <cstdint>

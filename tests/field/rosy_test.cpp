@@ -1,1 +1,45 @@
-// placeholder
+#include "field/rosy.h"
+
+#include <gtest/gtest.h>
+
+using namespace rosy::field;
+
+TEST(Representation, MemberChoiceDoesNotMatter) {
+    for (int n = 1; n <= 6; ++n)
+        for (double theta : {0.0, 0.3, 1.7, -2.2})
+            for (int k = 1; k < n; ++k) {
+                Complex a = representation(theta, n), b = representation(theta + 2 * M_PI * k / n, n);
+                EXPECT_NEAR(std::abs(a - b), 0.0, 1e-12) << "N=" << n << " k=" << k;
+            }
+}
+
+TEST(Representation, OrthogonalLineFieldsCancel) {
+    // {±x} + {±y} as 2-RoSys: representation vectors 1 and e^{iπ} sum to zero.
+    Complex sum = representation(0.0, 2) + representation(M_PI / 2, 2);
+    EXPECT_NEAR(std::abs(sum), 0.0, 1e-15);
+    // As 4-RoSys, x and y are the same cross: the sum doubles.
+    EXPECT_NEAR(std::abs(representation(0.0, 4) + representation(M_PI / 2, 4)), 2.0, 1e-12);
+}
+
+TEST(Representation, InverseGivesAllMembers) {
+    const int n = 3;
+    Complex u = representation(0.4, n, 2.5);
+    EXPECT_NEAR(std::abs(u), 2.5, 1e-12);
+    std::vector<double> m = memberAngles(u, n);
+    ASSERT_EQ(int(m.size()), 3);
+    EXPECT_NEAR(m[0], 0.4, 1e-12);
+    EXPECT_NEAR(m[1], 0.4 + 2 * M_PI / 3, 1e-12);
+    EXPECT_NEAR(m[2], 0.4 + 4 * M_PI / 3, 1e-12);
+}
+
+TEST(Representation, ScalarMultipleAndSumFollowEq3) {
+    // 2 s1 + s2 with s1 = s2 (same 4-RoSy, different member chosen) is 3 s1.
+    Complex s1 = representation(0.2, 4), s2 = representation(0.2 + M_PI / 2, 4);
+    EXPECT_NEAR(std::abs(2.0 * s1 + s2 - 3.0 * s1), 0.0, 1e-12);
+}
+
+TEST(WrapAngle, IntoHalfOpenInterval) {
+    EXPECT_NEAR(wrapAngle(3 * M_PI), M_PI, 1e-12);
+    EXPECT_NEAR(wrapAngle(-M_PI), M_PI, 1e-12);
+    EXPECT_NEAR(wrapAngle(0.5 + 4 * M_PI), 0.5, 1e-12);
+}

@@ -1,1 +1,151 @@
-// placeholder
+#include "field/curvature.h"
+#include "field/field_builder.h"
+#include "field/mesh_io.h"
+#include "field/mesh_stats.h"
+#include "field/primitives.h"
+#include "field/singularities.h"
+#include "field/smoothing.h"
+
+#include "core/diagnostics.h"
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+
+using namespace rosy::field;
+
+namespace {
+double dirichletRatio(const TangentFrames &fr, const RosyField &f) {
+    SparseMatrixC A = connectionLaplacian(fr, f.nSym);
+    Eigen::VectorXd m = vertexAreas(fr.mesh());
+    return std::real(f.u.dot(A * f.u)) / std::real(f.u.dot(m.cast<Complex>().cwiseProduct(f.u)));
+}
+} // namespace
+
+TEST(Smoothest, SphereCrossFieldHasAtLeastEightSingularitiesSummingToTwo) {
+    Mesh m = makeIcosphere(3);
+    TangentFrames fr(m);
+    SmoothestResult r = smoothestField(fr, 4);
+    SingularityReport rep = findSingularities(fr, r.field);
+    EXPECT_EQ(rep.indexNumeratorSum, 8);
+    EXPECT_GE(rep.singularities.size(), 8u);
+    for (const auto &s : rep.singularities) EXPECT_EQ(std::abs(s.indexNumerator), 1);
+}
+
+TEST(Smoothest, TorusCanBeSingularityFree) {
+    Mesh m = makeTorus(2.0, 0.8, 40, 20);
+    TangentFrames fr(m);
+    // The smoothest vector and line fields follow the meridians: no singularity.
+    // (The smoothest 4-RoSy of this fat torus trades smoothness for singularity
+    // pairs, so only its index sum is fixed.)
+    for (int n : {1, 2, 4}) {
+        SingularityReport rep = findSingularities(fr, smoothestField(fr, n).field);
+        EXPECT_EQ(rep.indexNumeratorSum, 0);
+        if (n <= 2) EXPECT_TRUE(rep.singularities.empty()) << "N=" << n;
+    }
+    // The curvature cross field of a torus of revolution (meridians and parallels,
+    // no umbilics) is singularity-free.
+    FieldSpec spec;
+    FieldResult r = buildField(fr, spec);
+    EXPECT_TRUE(findSingularities(fr, r.field).singularities.empty());
+}
+
+TEST(Smoothest, GenusTwoIndicesSumToMinusTwo) {
+    Mesh m = makeGenus2(40);
+    TangentFrames fr(m);
+    for (int n = 1; n <= 6; ++n) {
+        SingularityReport rep = findSingularities(fr, smoothestField(fr, n).field);
+        EXPECT_EQ(rep.indexNumeratorSum, -2 * n);
+        EXPECT_GE(int(rep.singularities.size()), 2 * n); // N|χ| first-order lower bound
+    }
+}
+
+TEST(Smoothest, IsAtLeastAsSmoothAsRelaxationOfARandomField) {
+    Mesh m = makeIcosphere(2);
+    TangentFrames fr(m);
+    RosyField s = smoothestField(fr, 4).field;
+    RosyField r{4, Eigen::VectorXcd::Random(m.nVertices())};
+    relaxationSmooth(fr, r, 50, 0.8);
+    EXPECT_LE(dirichletRatio(fr, s), dirichletRatio(fr, r) * (1 + 1e-9));
+}
+
+TEST(RelaxationSmooth, LowersEnergyAndKeepsFixedVertices) {
+    Mesh m = makeIcosphere(2);
+    TangentFrames fr(m);
+    RosyField f{4, Eigen::VectorXcd::Random(m.nVertices())};
+    std::vector<char> fixed(m.nVertices(), 0);
+    fixed[0] = fixed[10] = 1;
+    const Complex v0 = f.u[0], v10 = f.u[10];
+    const double before = dirichletRatio(fr, f);
+    relaxationSmooth(fr, f, 10, 0.5, fixed);
+    EXPECT_EQ(f.u[0], v0);
+    EXPECT_EQ(f.u[10], v10);
+    EXPECT_LT(dirichletRatio(fr, f), 0.5 * before);
+}
+
+TEST(AlignedField, TinySmoothingLengthReproducesTheGuide) {
+    Mesh m = makeTorus(2.0, 0.7, 24, 12);
+    TangentFrames fr(m);
+    RosyField guide{4, Eigen::VectorXcd::Random(m.nVertices())};
+    RosyField a = alignedField(fr, guide, 1e-5);
+    EXPECT_LT((a.u - guide.u).norm() / guide.u.norm(), 1e-3);
+}
+
+TEST(CurvatureField, PlanarMeshFallsBackWithWarning) {
+    Mesh m = makeGrid(6);
+    TangentFrames fr(m);
+    rosy::WarningCapture capture;
+    FieldSpec spec;
+    FieldResult r = buildField(fr, spec);
+    EXPECT_TRUE(capture.has("no-curvature-direction"));
+    EXPECT_TRUE(r.field.u.allFinite());
+    EXPECT_GT(r.field.u.cwiseAbs().minCoeff(), 0.0);
+}
+
+TEST(FieldSpec, RejectsBadSymmetry) {
+    Mesh m = makeIcosphere(1);
+    TangentFrames fr(m);
+    for (int n : {0, -3, 13, 1000}) {
+        FieldSpec spec;
+        spec.nSym = n;
+        EXPECT_THROW(buildField(fr, spec), rosy::InputError);
+    }
+}
+
+// Poincaré–Hopf on every primitive and shipped mesh, for N = 1..6, on the
+// curvature-aligned field (the product's default) and on the raw curvature field.
+TEST(PoincareHopf, HoldsOnShippedMeshesAndPrimitives) {
+    std::vector<Mesh> meshes;
+    meshes.push_back(makeIcosphere(2));
+    meshes.push_back(makeTorus(2.0, 0.6, 24, 12));
+    meshes.push_back(makeGenus2(32));
+    meshes.push_back(makeCube(3));
+    for (Platonic p : {Platonic::Tetrahedron, Platonic::Cube, Platonic::Octahedron, Platonic::Dodecahedron,
+                       Platonic::Icosahedron})
+        meshes.push_back(makePlatonic(p, 1));
+    meshes.push_back(makeDisk(6));
+    meshes.push_back(makeCylinder(1.0, 2.0, 24, 8));
+    {
+        rosy::WarningCapture quiet;
+        for (const char *name : {"bunny00.off", "fandisk.off", "elephant.off", "double-torus-example.off",
+                                 "elephant-with-holes.off", "ChineseDragon-10kv.off", "camel.off", "homer.off",
+                                 "lion-head.off", "man.off", "armadillo.off"})
+            meshes.push_back(loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/" + name));
+    }
+    for (const Mesh &m : meshes) {
+        const MeshStats stats = computeStats(m);
+        TangentFrames fr(m);
+        rosy::WarningCapture quiet;
+        std::vector<VertexCurvature> curv = computeCurvature(m);
+        for (int n = 1; n <= 6; ++n) {
+            for (double len : {0.0, 0.05}) {
+                RosyField guide = curvatureField(fr, curv, n);
+                RosyField f = len > 0 ? alignedField(fr, guide, len) : guide;
+                SingularityReport rep = findSingularities(fr, f);
+                if (stats.boundaryLoops == 0) {
+                    EXPECT_EQ(rep.indexNumeratorSum, n * stats.eulerCharacteristic) << m.name();
+                }
+                EXPECT_NEAR(rep.totalIndex(n), stats.eulerCharacteristic, 1e-6) << m.name() << " N=" << n;
+            }
+        }
+    }
+}

@@ -1,0 +1,68 @@
+#pragma once
+/// \file field_builder.h
+/// From a field specification (what a scene's `field:` block or the `rosyhatch
+/// field` flags say) to an N-RoSy field: the one place that chains curvature,
+/// design elements, curvature-aligned smoothing and the paper's global smoothing.
+
+#include "field/curvature.h"
+#include "field/design.h"
+#include "field/frames.h"
+#include "field/smoothing.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rosy::field {
+
+enum class FieldSource {
+    Curvature, ///< principal directions (2-RoSy: the major direction; 4-RoSy: both)
+    Smoothest, ///< Knöppel 2013 globally smoothest field
+    Design,    ///< design elements relaxed over the mesh (P&Z Sec. 5.1)
+};
+
+/// "curvature", "smoothest", "design".
+const char *toString(FieldSource source);
+
+struct FieldSpec {
+    int nSym = 4;                        ///< N in [1, kMaxSymmetry]
+    FieldSource source = FieldSource::Curvature;
+    CurvatureOptions curvature;
+    /// Curvature source: relative smoothing length of the curvature-aligned smooth
+    /// field (see alignedField); 0 keeps the raw per-vertex principal directions.
+    double smoothingLength = 0.04;
+    /// Design elements (source design; with source curvature they become
+    /// constraints over the curvature field).
+    std::vector<DesignElement> elements;
+    LaplaceWeights weights = LaplaceWeights::MeanValue;
+    /// The paper's global smoothing afterwards: iterations and strength in (0, 1].
+    int globalSmoothingIterations = 0;
+    double globalSmoothingStrength = 0.5;
+};
+
+constexpr int kMaxSymmetry = 12;
+
+/// The field and what it cost.
+struct FieldResult {
+    RosyField field;
+    std::vector<VertexCurvature> curvature; ///< filled for the curvature source
+    std::map<std::string, double> timingsMs; ///< per stage: curvature, solve, smoothing
+};
+
+/// Representation vectors of the curvature field: u_v = a_v e^{iNφ_v}, φ_v the
+/// angle of the major direction in v's frame, a_v = |kMax − kMin| divided by its
+/// 90th percentile over the mesh and clamped to 1, so a few creases do not
+/// outweigh everything else. All zero on a mesh without any anisotropy.
+RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCurvature> &curvature,
+                         int nSym);
+
+/// Builds the field. \throws InputError for N outside [1, kMaxSymmetry], bad
+/// design elements, or a design source without elements. A mesh without any
+/// curvature anisotropy (planar, or a perfect sphere) falls back to the smoothest
+/// field with a warning.
+FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec);
+
+/// Checks N, throwing InputError at `where` when it is out of range.
+void checkSymmetry(int nSym, const std::string &where);
+
+} // namespace rosy::field

@@ -1,0 +1,37 @@
+#pragma once
+/// \file laplacian.h
+/// Discrete operators on N-RoSy representation vectors: the connection
+/// Laplacian (edges weighted, neighbours transported into the centre frame) and
+/// the lumped mass matrix.
+
+#include "field/frames.h"
+
+#include <Eigen/Sparse>
+
+namespace rosy::field {
+
+using SparseMatrixC = Eigen::SparseMatrix<Complex>;
+
+enum class LaplaceWeights {
+    /// Mean-value coordinates (Floater 2003), as in Palacios & Zhang Eq. 14.
+    /// Positive on any mesh; not symmetric (each row normalised).
+    MeanValue,
+    /// Cotangent weights, each cotangent clamped to [−1e4, 1e4] and the edge
+    /// weight floored at 1e-6 so needle and zero-area faces give finite, positive
+    /// weights (a negative or infinite weight would break positive definiteness).
+    Cotan,
+};
+
+/// Hermitian positive semi-definite connection Laplacian A (#V × #V) of the
+/// Dirichlet energy Σ_edges w_ij |u_i − e^{iNΔθ_ij} u_j|² (cotan weights).
+SparseMatrixC connectionLaplacian(const TangentFrames &frames, int nSym);
+
+/// Lumped (barycentric) vertex areas, floored at 1e-12 × the mean so no row is zero.
+Eigen::VectorXd vertexAreas(const Mesh &mesh);
+
+/// Row-normalised weights ω_ij of vertex i's neighbours for the relaxation of
+/// Eq. 14 (ω summing to 1 per vertex). Returned as a real sparse matrix W with
+/// W(i, j) = ω_ij; the diagonal is empty.
+Eigen::SparseMatrix<double> relaxationWeights(const Mesh &mesh, LaplaceWeights weights);
+
+} // namespace rosy::field

@@ -1,0 +1,50 @@
+#pragma once
+/// \file smoothing.h
+/// Global smoothing of N-RoSy fields, two ways:
+///  - relaxationSmooth: the paper's smoothing (Palacios & Zhang 2007, Sec. 5.1),
+///    repeated transported Laplace relaxation steps with a strength, constrained
+///    vertices kept;
+///  - smoothestField / alignedField: the globally smoothest field of Knöppel et
+///    al. 2013 (smallest eigenvector of the connection Laplacian), optionally
+///    pulled toward a guide field such as the curvature field.
+
+#include "field/laplacian.h"
+#include "field/rosy.h"
+
+#include <vector>
+
+namespace rosy::field {
+
+/// `iterations` Jacobi steps u_i ← (1 − strength) u_i + strength Σ_j ω_ij T_ij u_j
+/// (strength in (0, 1]). Vertices with fixed[v] != 0 keep their value (fixed may be
+/// empty). Deterministic and parallel. Strength is preserved per vertex only where
+/// the neighbours agree: smoothing shrinks |u| near singularities, as it should.
+void relaxationSmooth(const TangentFrames &frames, RosyField &field, int iterations,
+                      double strength, const std::vector<char> &fixed = {},
+                      LaplaceWeights weights = LaplaceWeights::MeanValue);
+
+struct SmoothestResult {
+    RosyField field;  ///< unit-M-norm eigenvector, rescaled so max |u_v| = 1
+    double eigenvalue = 0; ///< Rayleigh quotient uᴴAu / uᴴMu (0 for a flat torus)
+    int iterations = 0;
+};
+
+/// Globally smoothest N-RoSy (Knöppel et al. 2013): smallest eigenvector of the
+/// generalized problem A u = λ M u by inverse power iteration on one sparse
+/// factorization, stopped when the eigenvalue changes by < 1e-10 (relative).
+/// Works per mesh (all components at once; each component's values are scaled
+/// independently by the eigen-problem so none is left at zero).
+/// \throws std::runtime_error naming the cause if the factorization fails.
+SmoothestResult smoothestField(const TangentFrames &frames, int nSym);
+
+/// Smooth field aligned to a guide (Knöppel 2013, Sec. 6 in spirit): solves
+/// (A + s M) u = s M q, where q is the guide field and s = 1 / (ℓ d)², d the
+/// bounding-box diagonal and ℓ = smoothingLength the relative length below which
+/// guide detail is smoothed away (0.02–0.1 typical). Where |q| is small
+/// (umbilics, flat parts), the smoothness term decides.
+/// Vertices with fixed[v] != 0 keep `fixedValues[v]` (Dirichlet rows; fixed may be empty).
+RosyField alignedField(const TangentFrames &frames, const RosyField &guide, double smoothingLength,
+                       const std::vector<char> &fixed = {},
+                       const Eigen::VectorXcd &fixedValues = {});
+
+} // namespace rosy::field
