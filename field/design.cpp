@@ -4,7 +4,7 @@
 #include "core/error.h"
 #include "field/smoothing.h"
 
-#include <Eigen/SparseLU>
+#include "field/sparse_solver.h"
 
 #include <cmath>
 #include <limits>
@@ -141,7 +141,6 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
                                  const DesignOptions &options) {
     const Mesh &mesh = frames.mesh();
     const int nV = mesh.nVertices();
-    const Eigen::SparseMatrix<double> W = relaxationWeights(mesh, options.weights);
     const double g = options.guide ? options.guideWeight : 0.0;
 
     std::vector<int> freeId(nV, -1);
@@ -150,10 +149,39 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
         if (fixed.empty() || !fixed[v]) freeId[v] = nFree++;
     Eigen::VectorXcd result = values.size() == nV ? values : Eigen::VectorXcd::Zero(nV);
     if (nFree == 0) return result;
-
     Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(nFree);
     std::vector<Eigen::Triplet<Complex>> trip;
     trip.reserve(nFree + 2 * mesh.nEdges());
+
+    if (options.weights == LaplaceWeights::Cotan) {
+        // Σ_j w_ij (u_i − T_ij u_j) = 0 is the free block of the Hermitian connection
+        // Laplacian: Cholesky instead of LU. The guide term is the normalised row's
+        // g (u_i − q_i) multiplied back by the row sum A_ii.
+        const SparseMatrixC A = connectionLaplacian(frames, nSym);
+        for (int k = 0; k < A.outerSize(); ++k)
+            for (SparseMatrixC::InnerIterator it(A, k); it; ++it) {
+                const int i = int(it.row()), j = int(it.col());
+                if (freeId[i] < 0) continue;
+                if (freeId[j] < 0) {
+                    rhs[freeId[i]] -= it.value() * result[j];
+                } else if (i == j) {
+                    trip.emplace_back(freeId[i], freeId[i], (1.0 + g) * it.value());
+                    if (g > 0) rhs[freeId[i]] += g * it.value().real() * options.guide->u[i];
+                } else if (freeId[j] < freeId[i]) {
+                    trip.emplace_back(freeId[i], freeId[j], it.value());
+                }
+            }
+        SparseMatrixC K(nFree, nFree);
+        K.setFromTriplets(trip.begin(), trip.end());
+        const Eigen::VectorXcd x = HermitianSolver(K).solve(rhs);
+        for (int v = 0; v < nV; ++v)
+            if (freeId[v] >= 0) result[v] = x[freeId[v]];
+        return result;
+    }
+
+    // The paper's form (Eq. 14–15): u_i − Σ_j ω_ij T_ij u_j = 0 with row-normalised
+    // mean-value weights, a general (non-symmetric) system.
+    const Eigen::SparseMatrix<double> W = relaxationWeights(mesh, options.weights);
     for (int v = 0; v < nV; ++v) {
         if (freeId[v] < 0) continue;
         trip.emplace_back(freeId[v], freeId[v], Complex(1.0 + g, 0.0));
@@ -178,14 +206,7 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
     SparseMatrixC K(nFree, nFree);
     K.setFromTriplets(trip.begin(), trip.end());
     K.makeCompressed();
-    Eigen::SparseLU<SparseMatrixC, Eigen::COLAMDOrdering<int>> lu;
-    lu.compute(K);
-    if (lu.info() != Eigen::Success)
-        throw std::runtime_error("relaxation: sparse LU factorization failed (" + lu.lastErrorMessage() +
-                                 "); the mesh may have a component without constraints");
-    Eigen::VectorXcd x = lu.solve(rhs);
-    if (lu.info() != Eigen::Success || !x.allFinite())
-        throw std::runtime_error("relaxation: sparse LU solve failed");
+    const Eigen::VectorXcd x = solveGeneral(K, rhs);
     for (int v = 0; v < nV; ++v)
         if (freeId[v] >= 0) result[v] = x[freeId[v]];
     return result;

@@ -3,8 +3,8 @@
 /// Reading meshes from OBJ, PLY (ascii and binary), OFF and STL files through
 /// OpenMesh's parsers, followed by our own validation and repair into a clean
 /// Mesh (see mesh.h). Every repair is reported once per kind through
-/// rosy::warn() with the file name; the treatments are documented in README.md
-/// ("Meshes: what is repaired and how").
+/// rosy::warn() with the file name; formats, limits, errors and every repair
+/// treatment are documented in docs/meshes.md.
 
 #include "field/mesh.h"
 

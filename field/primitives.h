@@ -13,8 +13,9 @@ Mesh makeIcosphere(int subdivisions, double radius = 1.0);
 Mesh makeEllipsoid(int subdivisions, double a, double b, double c);
 /// Torus around the z axis: major radius R, minor radius r, nU × nV quads split in two.
 Mesh makeTorus(double majorRadius, double minorRadius, int nU, int nV);
-/// A closed genus-2 surface (χ = −2): a smooth "double torus" made from an implicit
-/// surface, `resolution` cells along its long side (>= 16).
+/// A closed genus-2 surface (χ = −2): the boundary of a voxelized plate with two
+/// holes, `resolution` voxels along its long side (>= 16, else InputError),
+/// triangulated and rounded by Taubin λ/μ smoothing; x spans about [−1, 1].
 Mesh makeGenus2(int resolution = 48);
 /// Axis-aligned cube [−1, 1]³ with each face an n × n grid of quads split in two.
 Mesh makeCube(int n = 1);

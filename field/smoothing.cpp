@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 
-#include <Eigen/SparseCholesky>
+#include "field/sparse_solver.h"
 
 #include <cmath>
 
@@ -77,20 +77,16 @@ SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
     const double eps = 1e-8 * scale;
     SparseMatrixC K = A;
     for (int i = 0; i < n; ++i) K.coeffRef(i, i) += eps * m[i];
-    Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> ldlt(K);
-    if (ldlt.info() != Eigen::Success)
-        throw std::runtime_error("smoothest field: sparse LDLT factorization of the connection Laplacian failed");
+    const HermitianSolver solver(K);
     Eigen::VectorXcd x = startVector(n);
     double lambda = 0, previous = -1;
     int it = 0;
     for (; it < 500; ++it) {
-        Eigen::VectorXcd y = ldlt.solve(m.cast<Complex>().cwiseProduct(x));
-        if (ldlt.info() != Eigen::Success || !y.allFinite())
-            throw std::runtime_error("smoothest field: sparse solve failed");
+        Eigen::VectorXcd y = solver.solve(m.cast<Complex>().cwiseProduct(x));
         const double norm = std::sqrt(std::real(y.dot(m.cast<Complex>().cwiseProduct(y))));
         x = y / norm;
         lambda = std::real(x.dot(A * x));
-        if (previous >= 0 && std::abs(lambda - previous) <= 1e-10 * std::max(lambda, eps)) break;
+        if (previous >= 0 && std::abs(lambda - previous) <= 1e-8 * std::max(lambda, eps)) break;
         previous = lambda;
     }
     out.eigenvalue = lambda;
@@ -143,12 +139,7 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
         if (freeId[v] >= 0) trip.emplace_back(freeId[v], freeId[v], Complex(s * m[v], 0));
     SparseMatrixC K(nFree, nFree);
     K.setFromTriplets(trip.begin(), trip.end());
-    Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> ldlt(K);
-    if (ldlt.info() != Eigen::Success)
-        throw std::runtime_error("aligned field: sparse LDLT factorization failed");
-    Eigen::VectorXcd x = ldlt.solve(rhs);
-    if (ldlt.info() != Eigen::Success || !x.allFinite())
-        throw std::runtime_error("aligned field: sparse solve failed");
+    const Eigen::VectorXcd x = HermitianSolver(K).solve(rhs);
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) out.u[v] = x[freeId[v]];
     return out;

@@ -31,7 +31,8 @@ struct SmoothestResult {
 
 /// Globally smoothest N-RoSy (Knöppel et al. 2013): smallest eigenvector of the
 /// generalized problem A u = λ M u by inverse power iteration on one sparse
-/// factorization, stopped when the eigenvalue changes by < 1e-10 (relative).
+/// factorization, stopped when the eigenvalue changes by < 1e-8 (relative; the Rayleigh quotient is
+/// quadratic in the vector error, so the directions are then good to ~1e-4 rad).
 /// Works per mesh (all components at once; each component's values are scaled
 /// independently by the eigen-problem so none is left at zero).
 /// \throws std::runtime_error naming the cause if the factorization fails.

@@ -1,1 +1,155 @@
-// placeholder
+// Tests of Mesh::fromTriangles (connectivity invariants) and mesh_stats.
+#include "core/error.h"
+#include "field/mesh.h"
+#include "field/mesh_stats.h"
+#include "field/primitives.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace rosy;
+using namespace rosy::field;
+
+namespace {
+
+// Two triangles forming the unit square, and a closed tetrahedron, both CCW outward.
+std::vector<Vec3> tetraPositions() { return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}; }
+std::vector<Face> tetraFaces() { return {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}; }
+
+} // namespace
+
+TEST(MeshFromTriangles, TwinIsAnInvolutionWithSwappedEnds) {
+    Mesh m = makeGrid(4);
+    for (int h = 0; h < m.nHalfedges(); ++h) {
+        int t = m.twin(h);
+        if (t < 0) continue;
+        EXPECT_EQ(m.twin(t), h);
+        EXPECT_EQ(m.tail(t), m.head(h));
+        EXPECT_EQ(m.head(t), m.tail(h));
+        EXPECT_EQ(m.edgeOf(t), m.edgeOf(h));
+    }
+}
+
+TEST(MeshFromTriangles, InteriorRingAnglesSumToTwoPiOnFlatGrid) {
+    Mesh m = makeGrid(4);
+    int interior = 0;
+    for (int v = 0; v < m.nVertices(); ++v) {
+        if (m.isBoundaryVertex(v)) continue;
+        ++interior;
+        double sum = 0;
+        for (const int *h = m.outgoingBegin(v); h != m.outgoingEnd(v); ++h) {
+            EXPECT_EQ(m.tail(*h), v);
+            sum += m.cornerAngle(*h);
+        }
+        EXPECT_NEAR(sum, 2 * std::numbers::pi, 1e-12);
+    }
+    EXPECT_EQ(interior, 9); // (n-1)^2 for n = 4
+}
+
+TEST(MeshFromTriangles, RingsAreCounterClockwiseAndComplete) {
+    Mesh m = makeGrid(3);
+    std::vector<int> corners(m.nVertices(), 0);
+    for (const Face &f : m.faces())
+        for (int v : f) ++corners[v];
+    for (int v = 0; v < m.nVertices(); ++v) {
+        EXPECT_EQ(m.degree(v), corners[v]);
+        // Consecutive outgoing edges turn left (+z) around v in the flat z = 0 plane.
+        for (const int *h = m.outgoingBegin(v); h + 1 != m.outgoingEnd(v) && h != m.outgoingEnd(v); ++h)
+            EXPECT_GT(m.vector(h[0]).cross(m.vector(h[1])).z(), 0);
+    }
+}
+
+TEST(MeshFromTriangles, BoundaryVertexRingStartsWithBoundaryHalfedge) {
+    Mesh m = makeGrid(3);
+    int boundary = 0;
+    for (int v = 0; v < m.nVertices(); ++v) {
+        if (!m.isBoundaryVertex(v)) continue;
+        ++boundary;
+        EXPECT_TRUE(m.isBoundaryHalfedge(*m.outgoingBegin(v)));
+        EXPECT_EQ(m.valence(v), m.degree(v) + 1);
+    }
+    EXPECT_EQ(boundary, 12); // 4n for n = 3
+}
+
+TEST(MeshFromTriangles, RejectsUncleanInput) {
+    EXPECT_THROW(Mesh::fromTriangles(tetraPositions(), {{0, 0, 1}}), InputError);
+    EXPECT_THROW(Mesh::fromTriangles(tetraPositions(), {{0, 1, 7}}), InputError);
+    std::vector<Face> flipped = tetraFaces();
+    std::swap(flipped[0][1], flipped[0][2]);
+    EXPECT_THROW(Mesh::fromTriangles(tetraPositions(), flipped), InputError);
+    // Isolated vertex 3.
+    EXPECT_THROW(Mesh::fromTriangles(tetraPositions(), {{0, 1, 2}}), InputError);
+    // Bow tie: vertex 0 has two fans.
+    std::vector<Vec3> bow = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+    EXPECT_THROW(Mesh::fromTriangles(bow, {{0, 1, 2}, {0, 3, 4}}), InputError);
+    std::vector<Vec3> nan = tetraPositions();
+    nan[2].y() = std::nan("");
+    EXPECT_THROW(Mesh::fromTriangles(nan, tetraFaces()), InputError);
+}
+
+TEST(MeshStats, TetrahedronIsASphere) {
+    Mesh m = Mesh::fromTriangles(tetraPositions(), tetraFaces());
+    MeshStats s = computeStats(m);
+    EXPECT_EQ(s.vertices, 4);
+    EXPECT_EQ(s.edges, 6);
+    EXPECT_EQ(s.faces, 4);
+    EXPECT_EQ(s.eulerCharacteristic, 2);
+    EXPECT_EQ(s.components, 1);
+    EXPECT_EQ(s.boundaryLoops, 0);
+    EXPECT_EQ(s.genus, 0);
+    EXPECT_EQ(s.boundsMin, Vec3(0, 0, 0));
+    EXPECT_EQ(s.boundsMax, Vec3(1, 1, 1));
+}
+
+TEST(MeshStats, TwoDisjointPiecesAreTwoComponents) {
+    // A tetrahedron (faces 0..3) and a lone triangle (face 4) far away.
+    std::vector<Vec3> p = tetraPositions();
+    p.push_back({5, 0, 0});
+    p.push_back({6, 0, 0});
+    p.push_back({5, 1, 0});
+    std::vector<Face> f = tetraFaces();
+    f.push_back({4, 5, 6});
+    Mesh m = Mesh::fromTriangles(p, f);
+    int n = 0;
+    std::vector<int> comp = faceComponents(m, &n);
+    EXPECT_EQ(n, 2);
+    EXPECT_EQ(comp, (std::vector<int>{0, 0, 0, 0, 1}));
+    EXPECT_EQ(componentEulerCharacteristics(m), (std::vector<int>{2, 1}));
+    MeshStats s = computeStats(m);
+    EXPECT_EQ(s.eulerCharacteristic, 3);
+    EXPECT_EQ(s.boundaryLoops, 1);
+    EXPECT_EQ(s.genus, 0);
+    std::vector<std::vector<int>> loops = boundaryLoops(m);
+    ASSERT_EQ(loops.size(), 1u);
+    EXPECT_EQ(loops[0], (std::vector<int>{12, 13, 14}));
+}
+
+TEST(MeshStats, GridBoundaryIsOneOrderedLoop) {
+    const int n = 5;
+    Mesh m = makeGrid(n);
+    std::vector<std::vector<int>> loops = boundaryLoops(m);
+    ASSERT_EQ(loops.size(), 1u);
+    const std::vector<int> &loop = loops[0];
+    ASSERT_EQ(int(loop.size()), 4 * n);
+    EXPECT_EQ(loop[0], *std::min_element(loop.begin(), loop.end()));
+    double length = 0;
+    for (size_t i = 0; i < loop.size(); ++i) {
+        EXPECT_TRUE(m.isBoundaryHalfedge(loop[i]));
+        EXPECT_EQ(m.head(loop[i]), m.tail(loop[(i + 1) % loop.size()]));
+        length += m.vector(loop[i]).norm();
+    }
+    EXPECT_NEAR(length, 8.0, 1e-12); // perimeter of [-1, 1]^2
+    MeshStats s = computeStats(m);
+    EXPECT_EQ(s.eulerCharacteristic, 1);
+    EXPECT_EQ(s.genus, 0);
+}
+
+TEST(MeshStats, TorusHasGenusOne) {
+    MeshStats s = computeStats(makeTorus(2, 0.5, 12, 8));
+    EXPECT_EQ(s.eulerCharacteristic, 0);
+    EXPECT_EQ(s.genus, 1);
+    EXPECT_EQ(s.boundaryLoops, 0);
+}

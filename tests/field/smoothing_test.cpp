@@ -40,7 +40,9 @@ TEST(Smoothest, TorusCanBeSingularityFree) {
     for (int n : {1, 2, 4}) {
         SingularityReport rep = findSingularities(fr, smoothestField(fr, n).field);
         EXPECT_EQ(rep.indexNumeratorSum, 0);
-        if (n <= 2) EXPECT_TRUE(rep.singularities.empty()) << "N=" << n;
+        if (n <= 2) {
+            EXPECT_TRUE(rep.singularities.empty()) << "N=" << n;
+        }
     }
     // The curvature cross field of a torus of revolution (meridians and parallels,
     // no umbilics) is singularity-free.

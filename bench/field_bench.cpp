@@ -1,0 +1,82 @@
+// Field-stage benchmarks on bunny00 (37.7k vertices) from the CGAL sample data.
+// The mesh and frames are loaded once; each benchmark times one stage.
+#include "core/diagnostics.h"
+#include "field/curvature.h"
+#include "field/design.h"
+#include "field/field_builder.h"
+#include "field/mesh_io.h"
+#include "field/singularities.h"
+#include "field/smoothing.h"
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+
+using namespace rosy::field;
+
+namespace {
+struct Bunny {
+    Mesh mesh;
+    std::unique_ptr<TangentFrames> frames;
+    std::vector<VertexCurvature> curvature;
+    RosyField guide, field;
+};
+
+Bunny &bunny() {
+    static Bunny *b = [] {
+        auto *x = new Bunny;
+        x->mesh = loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/bunny00.off");
+        x->frames = std::make_unique<TangentFrames>(x->mesh);
+        x->curvature = computeCurvature(x->mesh);
+        x->guide = curvatureField(*x->frames, x->curvature, 4);
+        x->field = alignedField(*x->frames, x->guide, 0.04);
+        return x;
+    }();
+    return *b;
+}
+} // namespace
+
+static void BM_Frames(benchmark::State &state) {
+    Bunny &b = bunny();
+    for (auto _ : state) benchmark::DoNotOptimize(TangentFrames(b.mesh));
+}
+BENCHMARK(BM_Frames)->Unit(benchmark::kMillisecond);
+
+static void BM_Curvature(benchmark::State &state) {
+    Bunny &b = bunny();
+    for (auto _ : state) benchmark::DoNotOptimize(computeCurvature(b.mesh));
+}
+BENCHMARK(BM_Curvature)->Unit(benchmark::kMillisecond);
+
+static void BM_CurvatureAligned4Rosy(benchmark::State &state) {
+    Bunny &b = bunny();
+    for (auto _ : state) benchmark::DoNotOptimize(alignedField(*b.frames, b.guide, 0.04));
+}
+BENCHMARK(BM_CurvatureAligned4Rosy)->Unit(benchmark::kMillisecond);
+
+static void BM_Smoothest4Rosy(benchmark::State &state) {
+    Bunny &b = bunny();
+    for (auto _ : state) benchmark::DoNotOptimize(smoothestField(*b.frames, 4));
+}
+BENCHMARK(BM_Smoothest4Rosy)->Unit(benchmark::kMillisecond);
+
+static void BM_DesignRelaxation4Rosy(benchmark::State &state) {
+    Bunny &b = bunny();
+    std::vector<DesignElement> elements(3);
+    elements[0].position = b.mesh.position(100);
+    elements[1].position = b.mesh.position(20000);
+    elements[1].order = 1;
+    elements[2].position = b.mesh.position(30000);
+    elements[2].order = -1;
+    rosy::WarningCapture quiet;
+    for (auto _ : state) benchmark::DoNotOptimize(designField(*b.frames, 4, elements));
+}
+BENCHMARK(BM_DesignRelaxation4Rosy)->Unit(benchmark::kMillisecond);
+
+static void BM_Singularities(benchmark::State &state) {
+    Bunny &b = bunny();
+    for (auto _ : state) benchmark::DoNotOptimize(findSingularities(*b.frames, b.field));
+}
+BENCHMARK(BM_Singularities)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();

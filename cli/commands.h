@@ -1,0 +1,61 @@
+#pragma once
+/// \file commands.h
+/// Subcommands of the rosyhatch executable. Each one lives in its own
+/// cmd_<name>.cpp and registers itself with one call in main.cpp.
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rosy::cli {
+
+/// The work of the subcommand the user chose. Set while parsing, run by main()
+/// inside the program's only try block, so every error maps to an exit code.
+using Action = std::function<void()>;
+
+/// Adds `rosyhatch render SCENE.yaml [-o OUT]` and the common options to `app`.
+void addRenderCommand(CLI::App &app, Action &action);
+
+/// Adds `rosyhatch field SCENE_OR_MESH` (field report, singularities, export).
+void addFieldCommand(CLI::App &app, Action &action);
+
+/// Options every working subcommand shares.
+struct CommonOptions {
+    int threads = 0;         ///< 0 = all cores
+    bool quiet = false;      ///< no progress bars, no informational lines
+    std::string timingsPath; ///< empty = no timings file
+};
+
+/// Adds --threads, --quiet and --timings to a subcommand.
+void addCommonOptions(CLI::App &sub, CommonOptions &options);
+
+/// Wall-clock seconds per named stage, in the order the stages ran.
+class Timings {
+public:
+    /// Runs `work` and records how long it took under `stage`.
+    template <typename F>
+    auto time(const std::string &stage, F &&work) {
+        auto start = std::chrono::steady_clock::now();
+        struct Record {
+            Timings *t;
+            std::string stage;
+            std::chrono::steady_clock::time_point start;
+            ~Record() {
+                t->m_stages.emplace_back(
+                    stage, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            }
+        } record{this, stage, start};
+        return work();
+    }
+    /// Writes {"stages": {name: seconds, ...}, "total": seconds} atomically to `path`.
+    void write(const std::string &path) const;
+
+private:
+    std::vector<std::pair<std::string, double>> m_stages;
+};
+
+} // namespace rosy::cli

@@ -1,0 +1,49 @@
+/// \file main.cpp
+/// The rosyhatch executable: parses the command line, runs one subcommand and
+/// maps its outcome to the documented exit codes. This is the only place that
+/// catches errors:
+///   0 success, 1 internal error (a bug), 2 rejected input (usage, scene, mesh),
+///   3 environment / I/O failure (unreadable input, unwritable output).
+
+#include "cli/commands.h"
+
+#include "core/error.h"
+
+#include <iostream>
+
+int main(int argc, char **argv) {
+    CLI::App app{"rosyhatch: pen-and-ink rendering along N-RoSy fields"};
+    app.name("rosyhatch");
+    app.set_version_flag("--version", std::string("rosyhatch ") + ROSY_VERSION);
+    app.require_subcommand(1);
+
+    rosy::cli::Action action;
+    // One line per subcommand.
+    rosy::cli::addRenderCommand(app, action);
+    rosy::cli::addFieldCommand(app, action);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError &e) {
+        // --help and --version arrive here as "successful" parse errors.
+        int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+
+    try {
+        if (action) action();
+        return 0;
+    } catch (const rosy::InputError &e) {
+        std::cerr << e.what() << "\n";
+        return 2;
+    } catch (const rosy::IoError &e) {
+        std::cerr << e.what() << "\n";
+        return 3;
+    } catch (const std::exception &e) {
+        std::cerr << "internal error: " << e.what() << "\n";
+        return 1;
+    } catch (...) {
+        std::cerr << "internal error: unknown exception\n";
+        return 1;
+    }
+}

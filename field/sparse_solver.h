@@ -1,0 +1,45 @@
+#pragma once
+/// \file sparse_solver.h
+/// Sparse direct solvers for the complex systems of field design, behind one
+/// small interface so the choice is made (and measured) in one place.
+///
+/// Hermitian positive definite systems (connection Laplacians, Dirichlet
+/// problems, the smoothest field's inverse iteration) use CHOLMOD's supernodal
+/// Cholesky; general systems (the paper's mean-value relaxation, whose rows are
+/// normalised and so not symmetric) use UMFPACK's LU. Both come from Debian's
+/// libsuitesparse-dev; see README "Benchmarks" for the speed-up over Eigen's own
+/// SimplicialLDLT and SparseLU. BLAS runs on one thread, so results are
+/// bit-identical for any thread count.
+
+#include "field/rosy.h"
+
+#include <Eigen/Sparse>
+
+#include <memory>
+
+namespace rosy::field {
+
+using SparseMatrixC = Eigen::SparseMatrix<Complex>;
+
+/// Factorization of a Hermitian positive definite matrix (only its lower
+/// triangle is read), reused for many right-hand sides.
+class HermitianSolver {
+public:
+    /// \throws std::runtime_error with CHOLMOD's status if the matrix is not
+    ///   positive definite or the factorization fails.
+    explicit HermitianSolver(const SparseMatrixC &matrix);
+    ~HermitianSolver();
+    HermitianSolver(const HermitianSolver &) = delete;
+    HermitianSolver &operator=(const HermitianSolver &) = delete;
+    /// \throws std::runtime_error if the solve fails or produces non-finite values.
+    Eigen::VectorXcd solve(const Eigen::VectorXcd &rhs) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+/// Solves a general square sparse system once (LU). \throws std::runtime_error.
+Eigen::VectorXcd solveGeneral(const SparseMatrixC &matrix, const Eigen::VectorXcd &rhs);
+
+} // namespace rosy::field

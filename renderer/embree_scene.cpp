@@ -1,0 +1,137 @@
+#include "renderer/embree_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rosy::renderer {
+
+struct RayScene::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    // Embree reads vertices with 16-byte loads, so the last vertex needs one float of
+    // slack after it; we own the buffers and share them with Embree.
+    std::vector<float> vertices;
+    std::vector<unsigned> indices;
+    std::mutex errorMutex;
+    std::string lastError;
+
+    void check(const char *what) {
+        RTCError code = rtcGetDeviceError(device);
+        if (code == RTC_ERROR_NONE) return;
+        std::string message;
+        {
+            std::lock_guard<std::mutex> lock(errorMutex);
+            message = lastError;
+        }
+        if (message.empty()) message = "error code " + std::to_string(int(code));
+        throw std::runtime_error(std::string("Embree failed in ") + what + ": " + message);
+    }
+
+    static void errorCallback(void *userPtr, RTCError, const char *str) {
+        auto *impl = static_cast<Impl *>(userPtr);
+        std::lock_guard<std::mutex> lock(impl->errorMutex);
+        impl->lastError = str ? str : "";
+    }
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+namespace {
+
+void toRtcRay(const Ray &ray, RTCRay &r) {
+    r.org_x = float(ray.origin.x());
+    r.org_y = float(ray.origin.y());
+    r.org_z = float(ray.origin.z());
+    r.dir_x = float(ray.dir.x());
+    r.dir_y = float(ray.dir.y());
+    r.dir_z = float(ray.dir.z());
+    r.tnear = float(ray.tMin);
+    r.tfar = std::isinf(ray.tMax) ? std::numeric_limits<float>::infinity() : float(ray.tMax);
+    r.time = 0.0f;
+    r.mask = ~0u;
+    r.id = 0;
+    r.flags = 0;
+}
+} // namespace
+
+RayScene::RayScene(const field::Mesh &mesh) : m_impl(std::make_unique<Impl>()) {
+    Vec3 centre;
+    boundingSphere(mesh, centre, m_sceneRadius);
+    Impl &im = *m_impl;
+    im.device = rtcNewDevice(nullptr);
+    if (!im.device) {
+        RTCError code = rtcGetDeviceError(nullptr);
+        throw std::runtime_error("Embree could not create a device (error code " +
+                                 std::to_string(int(code)) + ")");
+    }
+    rtcSetDeviceErrorFunction(im.device, Impl::errorCallback, &im);
+    im.scene = rtcNewScene(im.device);
+    im.check("rtcNewScene");
+    rtcSetSceneFlags(im.scene, RTC_SCENE_FLAG_ROBUST);
+    im.check("rtcSetSceneFlags");
+
+    if (mesh.nFaces() > 0) {
+        int nV = mesh.nVertices(), nF = mesh.nFaces();
+        im.vertices.assign(3 * size_t(nV) + 1, 0.0f);
+        for (int v = 0; v < nV; ++v)
+            for (int k = 0; k < 3; ++k) im.vertices[3 * size_t(v) + k] = float(mesh.position(v)[k]);
+        im.indices.resize(3 * size_t(nF));
+        for (int f = 0; f < nF; ++f)
+            for (int k = 0; k < 3; ++k) im.indices[3 * size_t(f) + k] = unsigned(mesh.face(f)[k]);
+
+        RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        im.check("rtcNewGeometry");
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                   im.vertices.data(), 0, 3 * sizeof(float), size_t(nV));
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                   im.indices.data(), 0, 3 * sizeof(unsigned), size_t(nF));
+        rtcCommitGeometry(geom);
+        // geomID 0: the only geometry, so hit.geomID needs no lookup table.
+        rtcAttachGeometry(im.scene, geom);
+        rtcReleaseGeometry(geom);
+        im.check("building the triangle geometry");
+    }
+    rtcCommitScene(im.scene);
+    im.check("rtcCommitScene");
+}
+
+RayScene::~RayScene() = default;
+
+Hit RayScene::intersect(const Ray &ray) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    toRtcRay(ray, rh.ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_impl->scene, &context, &rh);
+    Hit hit;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    hit.faceId = int(rh.hit.primID);
+    hit.t = rh.ray.tfar;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    return hit;
+}
+
+bool RayScene::occluded(const Ray &ray) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r;
+    toRtcRay(ray, r);
+    rtcOccluded1(m_impl->scene, &context, &r);
+    // Embree marks an occluded ray by setting tfar to -inf.
+    return r.tfar < 0.0f;
+}
+
+} // namespace rosy::renderer

@@ -1,0 +1,158 @@
+#include "renderer/image.h"
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+
+namespace rosy::renderer {
+
+Image::Image(int w, int h, std::vector<std::string> names)
+    : width(w), height(h), nChannels(int(names.size())), channelNames(std::move(names)) {
+    ROSY_CHECK_GE(width, 0);
+    ROSY_CHECK_GE(height, 0);
+    data.assign(size_t(width) * size_t(height) * size_t(nChannels), 0.0f);
+}
+
+const char *supportedImageExtensions() { return ".png .exr .tif .tiff .jpg .jpeg"; }
+
+double linearToSrgb(double linear) {
+    if (!(linear > 0.0)) return 0.0; // also maps NaN to 0
+    if (linear >= 1.0) return 1.0;
+    return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+namespace {
+
+enum class Format { Png, Exr, Tiff, Jpeg };
+
+std::string lowerExtension(const std::string &path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+Format formatOf(const std::string &path) {
+    std::string ext = lowerExtension(path);
+    if (ext == ".png") return Format::Png;
+    if (ext == ".exr") return Format::Exr;
+    if (ext == ".tif" || ext == ".tiff") return Format::Tiff;
+    if (ext == ".jpg" || ext == ".jpeg") return Format::Jpeg;
+    throw InputError(FileLoc{path},
+                     "cannot write images with extension '" + ext + "'",
+                     std::string("use one of ") + supportedImageExtensions());
+}
+
+const char *oiioFormatName(Format f) {
+    switch (f) {
+    case Format::Png: return "png";
+    case Format::Exr: return "openexr";
+    case Format::Tiff: return "tiff";
+    case Format::Jpeg: return "jpeg";
+    }
+    return "";
+}
+
+int alphaIndex(const Image &image) {
+    for (int c = 0; c < image.nChannels; ++c)
+        if (image.channelNames[size_t(c)] == "A") return c;
+    return -1;
+}
+
+} // namespace
+
+bool isSupportedImagePath(const std::string &path) {
+    std::string ext = lowerExtension(path);
+    for (const char *e : {".png", ".exr", ".tif", ".tiff", ".jpg", ".jpeg"})
+        if (ext == e) return true;
+    return false;
+}
+
+void writeImage(const Image &image, const std::string &path, const ImageWriteOptions &options) {
+    ROSY_CHECK_EQ(int(image.channelNames.size()), image.nChannels);
+    ROSY_CHECK_EQ(image.data.size(),
+                  size_t(image.width) * size_t(image.height) * size_t(image.nChannels));
+    Format format = formatOf(path);
+    bool eightBit = format != Format::Exr;
+    if (image.width < 1 || image.height < 1)
+        throw InputError(FileLoc{path}, "cannot write an empty image (" +
+                                            std::to_string(image.width) + "x" +
+                                            std::to_string(image.height) + ")");
+    if (format == Format::Jpeg && image.nChannels != 1 && image.nChannels != 3)
+        throw InputError(FileLoc{path},
+                         "JPEG holds 1 or 3 channels, the image has " + std::to_string(image.nChannels),
+                         "write .png, .tif or .exr instead");
+    // libjpeg ends the whole process (exit()) on larger images instead of reporting an
+    // error through OpenImageIO, so refuse them here.
+    if (format == Format::Jpeg && (image.width > 65500 || image.height > 65500))
+        throw InputError(FileLoc{path},
+                         "JPEG images are limited to 65500 pixels per side, this one is " +
+                             std::to_string(image.width) + "x" + std::to_string(image.height),
+                         "write .png, .tif or .exr instead");
+    if (eightBit && (image.nChannels < 1 || image.nChannels > 4))
+        throw InputError(FileLoc{path},
+                         "8-bit formats hold 1 to 4 channels, the image has " +
+                             std::to_string(image.nChannels),
+                         "write .exr to keep every channel");
+    if (image.nChannels < 1) throw InputError(FileLoc{path}, "cannot write an image without channels");
+
+    int alpha = alphaIndex(image);
+    OIIO::ImageSpec spec(image.width, image.height, image.nChannels,
+                         eightBit ? OIIO::TypeDesc::UINT8
+                                  : (options.exrHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT));
+    spec.channelnames = image.channelNames;
+    spec.alpha_channel = alpha;
+    // Our alpha is straight (not premultiplied): tell the writers not to divide by it.
+    if (alpha >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (eightBit) {
+        spec.attribute("oiio:ColorSpace", "sRGB");
+        if (format == Format::Jpeg) spec.attribute("CompressionQuality", 95);
+    } else {
+        spec.attribute("oiio:ColorSpace", "Linear");
+        spec.attribute("compression", "zip");
+    }
+
+    // Encode once, outside the writer: exact rounding of our own sRGB curve rather
+    // than whatever conversion the format plugin would apply.
+    std::vector<uint8_t> bytes;
+    if (eightBit) {
+        bytes.resize(image.data.size());
+        for (size_t i = 0; i < image.data.size(); ++i) {
+            int c = int(i % size_t(image.nChannels));
+            double v = image.data[i];
+            double e = c == alpha ? (v == v ? std::clamp(v, 0.0, 1.0) : 0.0) : linearToSrgb(v);
+            bytes[i] = uint8_t(std::lround(e * 255.0));
+        }
+    }
+    // NaN and infinities cannot be displayed; EXR would store them verbatim, which
+    // breaks "never NaN in output". Replace them before writing.
+    std::vector<float> floats;
+    if (!eightBit) {
+        floats = image.data;
+        for (float &v : floats)
+            if (!std::isfinite(v)) v = 0.0f;
+    }
+
+    writeAtomically(path, [&](const std::string &tmpPath) {
+        auto out = OIIO::ImageOutput::create(oiioFormatName(format));
+        if (!out) throw IoError(path, "OpenImageIO has no writer: " + OIIO::geterror());
+        if (!out->open(tmpPath, spec)) throw IoError(path, out->geterror());
+        bool ok = eightBit ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
+                           : out->write_image(OIIO::TypeDesc::FLOAT, floats.data());
+        if (!ok) {
+            std::string message = out->geterror();
+            out->close();
+            throw IoError(path, message);
+        }
+        if (!out->close()) throw IoError(path, out->geterror());
+    });
+}
+
+} // namespace rosy::renderer

@@ -1,0 +1,63 @@
+#pragma once
+/// \file image.h
+/// Our image type and the one way images leave the program. OpenImageIO stays
+/// inside image.cpp.
+
+#include <string>
+#include <vector>
+
+namespace rosy::renderer {
+
+/// A float image in linear light, channels interleaved, rows top to bottom:
+/// data[(y * width + x) * nChannels + c].
+struct Image {
+    int width = 0;
+    int height = 0;
+    int nChannels = 0;
+    /// One name per channel, e.g. {"R","G","B"} or {"R","G","B","A","depth"}. A channel
+    /// named "A" is straight (not premultiplied) alpha, stored linearly, never sRGB-encoded.
+    std::vector<std::string> channelNames;
+    std::vector<float> data;
+
+    Image() = default;
+    /// width x height image with the given channels, all zero.
+    Image(int width, int height, std::vector<std::string> channelNames);
+
+    float &at(int x, int y, int c) { return data[offset(x, y, c)]; }
+    float at(int x, int y, int c) const { return data[offset(x, y, c)]; }
+
+private:
+    size_t offset(int x, int y, int c) const {
+        return (size_t(y) * size_t(width) + size_t(x)) * size_t(nChannels) + size_t(c);
+    }
+};
+
+struct ImageWriteOptions {
+    /// EXR only: store half floats instead of 32-bit floats.
+    bool exrHalf = false;
+};
+
+/// The file extensions writeImage() accepts, for messages: ".png .exr .tif .tiff .jpg .jpeg".
+const char *supportedImageExtensions();
+
+/// True if writeImage() can write a file with this path's extension.
+bool isSupportedImagePath(const std::string &path);
+
+/// Writes `image` to `path`, format chosen by the (case-insensitive) extension:
+///  - .png, .tif/.tiff, .jpg/.jpeg: 8 bits per channel, colour channels converted
+///    from linear light with the sRGB transfer curve (values clamped to [0, 1], NaN -> 0),
+///    alpha kept linear; PNG/TIFF take 1-4 channels, JPEG 1 or 3 and at most 65500
+///    pixels per side;
+///  - .exr: every channel with its name, 32-bit float (or half, see options).
+/// The file appears atomically (temporary file + rename, see core/atomic_file.h): on
+/// failure no temporary file is left and an existing file at `path` is untouched.
+/// No time stamps or host names are written, so equal images give equal files.
+/// \throws InputError naming `path` for an unsupported extension or a channel count
+///   or size the format cannot hold.
+/// \throws IoError with OpenImageIO's message if the file cannot be written.
+void writeImage(const Image &image, const std::string &path, const ImageWriteOptions &options = {});
+
+/// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
+double linearToSrgb(double linear);
+
+} // namespace rosy::renderer

@@ -1,0 +1,48 @@
+#pragma once
+/// \file shading.h
+/// Lambert tone for the preview image: how much light reaches each visible
+/// point, later also the input the hatching density follows.
+
+#include "field/mesh.h"
+#include "renderer/camera.h"
+#include "renderer/embree_scene.h"
+#include "renderer/gbuffer.h"
+#include "renderer/image.h"
+#include "styles/style.h"
+
+#include <vector>
+
+namespace rosy::renderer {
+
+/// A light for the preview. Neither kind falls off with distance, so an intensity
+/// means the same at any scene scale.
+struct Light {
+    enum class Type { Directional, Point };
+    Type type = Type::Directional;
+    /// Directional: direction from the scene TOWARD the light (any length > 0).
+    Vec3 direction = Vec3(0, 1, 0);
+    /// Point: world position of the light.
+    Vec3 position = Vec3::Zero();
+    /// Scale of the light's Lambert term (>= 0); 1 lights a facing surface fully.
+    double intensity = 1.0;
+};
+
+struct ShadingOptions {
+    /// Tone floor in [0, 1] for surfaces no light reaches.
+    double ambient = 0.15;
+    /// Trace an occlusion ray toward each light (cast shadows).
+    bool shadows = true;
+};
+
+/// Per-pixel tone in [0, 1] (1 = bright, row-major like the G-buffer):
+/// tone = ambient + (1 - ambient) * min(1, sum_i intensity_i * max(0, n . l_i) * visible_i).
+/// Background pixels get 1 (paper). Normals of surfaces seen from behind (open meshes)
+/// are flipped toward the viewer. Parallel over rows, thread-count independent.
+std::vector<double> shadeLambert(const GBuffer &gbuffer, const RayScene &scene,
+                                 const field::Mesh &mesh, const Camera &camera,
+                                 const std::vector<Light> &lights, const ShadingOptions &options);
+
+/// RGB image (channels R, G, B; linear light) of a tone buffer in the style's colours.
+Image toneImage(const std::vector<double> &tone, int width, int height, const styles::Style &style);
+
+} // namespace rosy::renderer

@@ -1,0 +1,530 @@
+#include "scenes/scene.h"
+
+#include "field/mesh_io.h"
+#include "field/primitives.h"
+#include "renderer/image.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace rosy::scenes {
+namespace fs = std::filesystem;
+
+int editDistance(const std::string &a, const std::string &b) {
+    std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) prev[j] = int(j);
+    for (size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = int(i);
+        for (size_t j = 1; j <= b.size(); ++j)
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+        std::swap(prev, cur);
+    }
+    return prev[b.size()];
+}
+
+namespace {
+
+/// One parameter of a procedural primitive.
+struct ParamSpec {
+    const char *name;
+    double defaultValue;
+    double lo, hi;
+    bool integer;
+};
+
+struct PrimitiveSpec {
+    const char *name;
+    std::vector<ParamSpec> params;
+};
+
+// Upper limits keep a typo from asking for hundreds of millions of triangles.
+const std::vector<PrimitiveSpec> &primitiveSpecs() {
+    static const std::vector<PrimitiveSpec> specs = {
+        {"icosphere", {{"subdivisions", 3, 0, 8, true}, {"radius", 1, 1e-6, 1e6, false}}},
+        {"ellipsoid",
+         {{"subdivisions", 3, 0, 8, true},
+          {"a", 1.5, 1e-6, 1e6, false},
+          {"b", 1.0, 1e-6, 1e6, false},
+          {"c", 0.75, 1e-6, 1e6, false}}},
+        {"torus",
+         {{"major_radius", 1.0, 1e-6, 1e6, false},
+          {"minor_radius", 0.35, 1e-6, 1e6, false},
+          {"nu", 64, 3, 4096, true},
+          {"nv", 32, 3, 4096, true}}},
+        {"genus2", {{"resolution", 48, 16, 512, true}}},
+        {"cube", {{"n", 8, 1, 1024, true}}},
+        {"tetrahedron", {{"subdivisions", 0, 0, 8, true}}},
+        {"octahedron", {{"subdivisions", 0, 0, 8, true}}},
+        {"dodecahedron", {{"subdivisions", 0, 0, 8, true}}},
+        {"icosahedron", {{"subdivisions", 0, 0, 8, true}}},
+        {"disk", {{"rings", 16, 1, 2048, true}}},
+        {"grid", {{"n", 16, 1, 4096, true}}},
+        {"cylinder",
+         {{"radius", 1.0, 1e-6, 1e6, false},
+          {"height", 2.0, 1e-6, 1e6, false},
+          {"n_around", 48, 3, 4096, true},
+          {"n_along", 16, 1, 4096, true}}},
+    };
+    return specs;
+}
+
+std::string joinNames(const std::vector<std::string> &names) {
+    std::string s;
+    for (size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+    return s;
+}
+
+/// "did you mean 'x'?" for the closest candidate within a small edit distance,
+/// else the list of allowed names.
+std::string suggest(const std::string &word, const std::vector<std::string> &candidates) {
+    std::string best;
+    int bestDist = 1 << 30;
+    for (const std::string &c : candidates) {
+        int d = editDistance(word, c);
+        if (d < bestDist) {
+            bestDist = d;
+            best = c;
+        }
+    }
+    int limit = std::max(2, int(word.size()) / 3);
+    if (!best.empty() && bestDist <= limit) return "did you mean '" + best + "'?";
+    return "expected one of: " + joinNames(candidates);
+}
+
+/// Reads one scene file; carries the path for every location.
+class Parser {
+public:
+    explicit Parser(std::string path) : m_path(std::move(path)) {}
+
+    FileLoc loc(const YAML::Node &node) const {
+        YAML::Mark m = node.Mark();
+        // yaml-cpp marks are 0-based; a null mark (-1) means "unknown".
+        return FileLoc{m_path, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0};
+    }
+    FileLoc loc(const YAML::Mark &m) const {
+        return FileLoc{m_path, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0};
+    }
+
+    static std::string kindOf(const YAML::Node &node) {
+        switch (node.Type()) {
+        case YAML::NodeType::Map: return "a map";
+        case YAML::NodeType::Sequence: return "a list";
+        case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
+        default: return "nothing";
+        }
+    }
+
+    [[noreturn]] void fail(const YAML::Node &node, const std::string &what,
+                           const std::string &hint = {}) const {
+        throw InputError(loc(node), what, hint);
+    }
+
+    /// The entries of a map node in file order, after rejecting duplicate and
+    /// unknown keys. yaml-cpp keeps duplicate keys in the node but lookups see only
+    /// one of them, so duplicates are found by walking the entries ourselves.
+    std::vector<std::pair<YAML::Node, YAML::Node>>
+    entries(const YAML::Node &map, const std::string &context,
+            const std::vector<std::string> &allowed) const {
+        if (!map.IsMap()) fail(map, context + " must be a map (key: value lines), got " + kindOf(map));
+        std::vector<std::pair<YAML::Node, YAML::Node>> out;
+        for (auto it = map.begin(); it != map.end(); ++it) {
+            YAML::Node key = it->first, value = it->second;
+            if (!key.IsScalar()) fail(key, "keys in " + context + " must be plain names");
+            const std::string &name = key.Scalar();
+            for (const auto &seen : out)
+                if (seen.first.Scalar() == name) {
+                    FileLoc first = loc(seen.first);
+                    fail(key, "duplicate key '" + name + "' in " + context + " (first set at line " +
+                                  std::to_string(first.line) + ")",
+                         "keep only one of them");
+                }
+            if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+                fail(key, "unknown key '" + name + "' in " + context, suggest(name, allowed));
+            out.emplace_back(key, value);
+        }
+        return out;
+    }
+
+    double number(const YAML::Node &node, const std::string &what, double lo, double hi) const {
+        if (!node.IsScalar()) fail(node, what + " must be a number, got " + kindOf(node));
+        double v;
+        try {
+            v = node.as<double>();
+        } catch (const YAML::Exception &) {
+            fail(node, what + " must be a number, got " + kindOf(node));
+        }
+        if (!std::isfinite(v)) fail(node, what + " must be a finite number, got " + kindOf(node));
+        if (v < lo || v > hi) fail(node, what + " must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v));
+        return v;
+    }
+
+    int integer(const YAML::Node &node, const std::string &what, int lo, int hi) const {
+        if (!node.IsScalar()) fail(node, what + " must be a whole number, got " + kindOf(node));
+        long long v;
+        try {
+            v = node.as<long long>();
+        } catch (const YAML::Exception &) {
+            fail(node, what + " must be a whole number, got " + kindOf(node));
+        }
+        if (v < lo || v > hi)
+            fail(node, what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                           "], got " + std::to_string(v));
+        return int(v);
+    }
+
+    bool boolean(const YAML::Node &node, const std::string &what) const {
+        if (!node.IsScalar()) fail(node, what + " must be true or false, got " + kindOf(node));
+        try {
+            return node.as<bool>();
+        } catch (const YAML::Exception &) {
+            fail(node, what + " must be true or false, got " + kindOf(node));
+        }
+    }
+
+    std::string text(const YAML::Node &node, const std::string &what) const {
+        if (!node.IsScalar() || node.Scalar().empty())
+            fail(node, what + " must be text, got " + kindOf(node));
+        return node.Scalar();
+    }
+
+    Vec3 vec3(const YAML::Node &node, const std::string &what, double lo = -1e12,
+              double hi = 1e12) const {
+        if (!node.IsSequence() || node.size() != 3)
+            fail(node, what + " must be a list of 3 numbers like [0, 1, 0], got " + kindOf(node));
+        return Vec3(number(node[0], what + "[0]", lo, hi), number(node[1], what + "[1]", lo, hi),
+                    number(node[2], what + "[2]", lo, hi));
+    }
+
+    static std::string fmt(double v) {
+        std::ostringstream os;
+        os << v;
+        return os.str();
+    }
+
+    const std::string &path() const { return m_path; }
+
+private:
+    std::string m_path;
+};
+
+void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
+    mesh.loc = p.loc(node);
+    if (node.IsScalar()) {
+        std::string value = p.text(node, "mesh");
+        fs::path file(value);
+        if (file.is_relative()) file = fs::path(p.path()).parent_path() / file;
+        file = file.lexically_normal();
+        std::error_code ec;
+        if (!fs::exists(file, ec))
+            p.fail(node, "mesh file '" + file.string() + "' does not exist",
+                   "paths are relative to the scene file's folder");
+        if (fs::is_directory(file, ec))
+            p.fail(node, "mesh '" + file.string() + "' is a folder, not a file");
+        mesh.file = Located<std::string>{file.string(), p.loc(node)};
+        return;
+    }
+    if (!node.IsMap())
+        p.fail(node, "mesh must be a file path or a map like {primitive: icosphere}, got " +
+                         Parser::kindOf(node));
+    // Find the primitive first: which parameters are allowed depends on it.
+    YAML::Node nameNode;
+    for (auto it = node.begin(); it != node.end(); ++it)
+        if (it->first.IsScalar() && it->first.Scalar() == "primitive") nameNode = it->second;
+    if (!nameNode) p.fail(node, "mesh map needs a 'primitive' key", "e.g. mesh: {primitive: icosphere}");
+    std::string name = p.text(nameNode, "mesh.primitive");
+    const PrimitiveSpec *spec = nullptr;
+    for (const auto &s : primitiveSpecs())
+        if (name == s.name) spec = &s;
+    if (!spec)
+        p.fail(nameNode, "unknown primitive '" + name + "'", suggest(name, primitiveNames()));
+    mesh.primitive = Located<std::string>{name, p.loc(nameNode)};
+    std::vector<std::string> allowed{"primitive"};
+    for (const auto &ps : spec->params) {
+        allowed.push_back(ps.name);
+        mesh.params[ps.name] = Located<double>{ps.defaultValue, {}};
+    }
+    for (const auto &[key, value] : p.entries(node, "mesh (" + name + ")", allowed)) {
+        const std::string &k = key.Scalar();
+        if (k == "primitive") continue;
+        for (const auto &ps : spec->params) {
+            if (k != ps.name) continue;
+            std::string what = "mesh." + k;
+            double v = ps.integer ? double(p.integer(value, what, int(ps.lo), int(ps.hi)))
+                                  : p.number(value, what, ps.lo, ps.hi);
+            mesh.params[k] = Located<double>{v, p.loc(value)};
+        }
+    }
+}
+
+void parseCamera(const Parser &p, const YAML::Node &node, CameraDesc &cam) {
+    cam.loc = p.loc(node);
+    std::optional<Located<bool>> autoFlag;
+    bool hasPosition = false, hasLookAt = false;
+    const auto entries =
+        p.entries(node, "camera",
+                  {"auto", "projection", "position", "look_at", "up", "fov", "height", "direction",
+                   "margin", "resolution"});
+    for (const auto &[key, value] : entries) {
+        const std::string &k = key.Scalar();
+        FileLoc l = p.loc(value);
+        if (k == "auto") {
+            autoFlag = Located<bool>{p.boolean(value, "camera.auto"), l};
+        } else if (k == "projection") {
+            std::string s = p.text(value, "camera.projection");
+            if (s == "perspective")
+                cam.projection = {renderer::Projection::Perspective, l};
+            else if (s == "orthographic")
+                cam.projection = {renderer::Projection::Orthographic, l};
+            else
+                p.fail(value, "unknown projection '" + s + "'", suggest(s, {"perspective", "orthographic"}));
+        } else if (k == "position") {
+            cam.position = {p.vec3(value, "camera.position"), l};
+            hasPosition = true;
+        } else if (k == "look_at") {
+            cam.lookAt = {p.vec3(value, "camera.look_at"), l};
+            hasLookAt = true;
+        } else if (k == "up") {
+            cam.up = {p.vec3(value, "camera.up"), l};
+            if (cam.up.value.norm() == 0.0) p.fail(value, "camera.up must not be [0, 0, 0]");
+        } else if (k == "fov") {
+            cam.fov = {p.number(value, "camera.fov (degrees)", 1.0, 179.0), l};
+        } else if (k == "height") {
+            cam.height = {p.number(value, "camera.height", 1e-9, 1e12), l};
+        } else if (k == "direction") {
+            cam.direction = {p.vec3(value, "camera.direction"), l};
+            if (cam.direction.value.norm() == 0.0) p.fail(value, "camera.direction must not be [0, 0, 0]");
+        } else if (k == "margin") {
+            cam.margin = {p.number(value, "camera.margin", 0.0, 10.0), l};
+        } else if (k == "resolution") {
+            if (!value.IsSequence() || value.size() != 2)
+                p.fail(value, "camera.resolution must be a list [width, height], got " + Parser::kindOf(value));
+            cam.resolution = {{p.integer(value[0], "camera.resolution width", 1, 16384),
+                               p.integer(value[1], "camera.resolution height", 1, 16384)},
+                              l};
+        }
+    }
+    cam.automatic = autoFlag ? autoFlag->value : !hasPosition;
+    if (cam.automatic) {
+        if (hasPosition || hasLookAt) {
+            const YAML::Node &bad = hasPosition ? node["position"] : node["look_at"];
+            p.fail(bad, "an automatic camera takes no position or look_at",
+                   "remove them, or set auto: false");
+        }
+        Vec3 r = cam.direction.value.normalized().cross(cam.up.value.normalized());
+        if (r.norm() < 1e-6)
+            throw InputError(cam.direction.loc.line ? cam.direction.loc : cam.loc,
+                             "camera.direction is parallel to camera.up", "tilt one of them");
+        return;
+    }
+    if (!hasPosition) p.fail(node, "a camera with auto: false needs a position");
+    if (!hasLookAt) p.fail(node, "a manual camera needs look_at", "e.g. look_at: [0, 0, 0]");
+    if (cam.position.value == cam.lookAt.value)
+        throw InputError(cam.lookAt.loc, "camera.look_at equals camera.position",
+                         "look at a point away from the camera");
+    Vec3 f = (cam.lookAt.value - cam.position.value).normalized();
+    if (f.cross(cam.up.value.normalized()).norm() < 1e-6)
+        throw InputError(cam.up.loc.line ? cam.up.loc : cam.lookAt.loc,
+                         "camera.up is parallel to the viewing direction", "choose another up vector");
+    if (cam.projection.value == renderer::Projection::Orthographic && cam.height.loc.line == 0)
+        p.fail(node, "a manual orthographic camera needs height (world units the image spans vertically)");
+}
+
+void parseLights(const Parser &p, const YAML::Node &node, std::vector<LightDesc> &lights) {
+    if (!node.IsSequence())
+        p.fail(node, "lights must be a list like [{type: directional, direction: [1, 1, 1]}], got " +
+                         Parser::kindOf(node));
+    for (size_t i = 0; i < node.size(); ++i) {
+        YAML::Node ln = node[i];
+        std::string ctx = "lights[" + std::to_string(i) + "]";
+        LightDesc d;
+        d.loc = p.loc(ln);
+        bool hasDirection = false, hasPosition = false;
+        YAML::Node typeNode;
+        for (const auto &[key, value] :
+             p.entries(ln, ctx, {"type", "direction", "position", "intensity"})) {
+            const std::string &k = key.Scalar();
+            if (k == "type") {
+                typeNode = value;
+                std::string s = p.text(value, ctx + ".type");
+                if (s == "directional")
+                    d.light.type = renderer::Light::Type::Directional;
+                else if (s == "point")
+                    d.light.type = renderer::Light::Type::Point;
+                else
+                    p.fail(value, "unknown light type '" + s + "'", suggest(s, {"directional", "point"}));
+            } else if (k == "direction") {
+                d.light.direction = p.vec3(value, ctx + ".direction");
+                if (d.light.direction.norm() == 0.0) p.fail(value, ctx + ".direction must not be [0, 0, 0]");
+                hasDirection = true;
+            } else if (k == "position") {
+                d.light.position = p.vec3(value, ctx + ".position");
+                hasPosition = true;
+            } else if (k == "intensity") {
+                d.light.intensity = p.number(value, ctx + ".intensity", 0.0, 1e6);
+            }
+        }
+        if (!typeNode) p.fail(ln, ctx + " needs a type", "type: directional or type: point");
+        if (d.light.type == renderer::Light::Type::Directional) {
+            if (!hasDirection) p.fail(ln, "a directional light needs direction (toward the light)");
+            if (hasPosition) p.fail(ln["position"], "a directional light has no position", "use direction");
+        } else {
+            if (!hasPosition) p.fail(ln, "a point light needs position");
+            if (hasDirection) p.fail(ln["direction"], "a point light has no direction", "use position");
+        }
+        lights.push_back(d);
+    }
+}
+
+styles::Rgb colour(const Parser &p, const YAML::Node &node, const std::string &what) {
+    Vec3 c = p.vec3(node, what + " (linear RGB)", 0.0, 1.0);
+    return {c.x(), c.y(), c.z()};
+}
+
+} // namespace
+
+std::vector<std::string> primitiveNames() {
+    std::vector<std::string> names;
+    for (const auto &s : primitiveSpecs()) names.push_back(s.name);
+    return names;
+}
+
+SceneDesc parseScene(const std::string &text, const std::string &path) {
+    Parser p(path);
+    YAML::Node root;
+    try {
+        root = YAML::Load(text);
+    } catch (const YAML::ParserException &e) {
+        throw InputError(p.loc(e.mark), "YAML syntax error: " + e.msg,
+                         "check indentation, colons and brackets");
+    }
+    SceneDesc desc;
+    desc.path = path;
+    if (!root || root.IsNull())
+        throw InputError(FileLoc{path, 1, 1}, "the scene file is empty", "it needs at least a mesh: key");
+    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "style"});
+    bool hasMesh = false;
+    for (const auto &[key, value] : entries) {
+        const std::string &k = key.Scalar();
+        if (k == "mesh") {
+            parseMesh(p, value, desc.mesh);
+            hasMesh = true;
+        } else if (k == "camera") {
+            parseCamera(p, value, desc.camera);
+        } else if (k == "lights") {
+            desc.lightsGiven = true;
+            parseLights(p, value, desc.lights);
+        } else if (k == "output") {
+            std::string out = p.text(value, "output");
+            if (!renderer::isSupportedImagePath(out))
+                p.fail(value, "output '" + out + "' has an unsupported extension",
+                       std::string("use one of ") + renderer::supportedImageExtensions());
+            desc.output = {out, p.loc(value)};
+        } else if (k == "shadows") {
+            desc.shadows = {p.boolean(value, "shadows"), p.loc(value)};
+        } else if (k == "style") {
+            for (const auto &[sk, sv] : p.entries(value, "style", {"paper", "ink", "ambient"})) {
+                const std::string &s = sk.Scalar();
+                if (s == "paper")
+                    desc.paper = {colour(p, sv, "style.paper"), p.loc(sv)};
+                else if (s == "ink")
+                    desc.ink = {colour(p, sv, "style.ink"), p.loc(sv)};
+                else
+                    desc.ambient = {p.number(sv, "style.ambient", 0.0, 1.0), p.loc(sv)};
+            }
+        }
+    }
+    if (!hasMesh)
+        throw InputError(FileLoc{path, 1, 1}, "the scene has no mesh",
+                         "add e.g. mesh: bunny.off or mesh: {primitive: icosphere}");
+    if (desc.output.value.empty())
+        desc.output.value = fs::path(path).stem().string() + ".png";
+    return desc;
+}
+
+SceneDesc parseSceneFile(const std::string &path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw IoError(path, "scene file does not exist");
+    if (fs::is_directory(path, ec)) throw IoError(path, "is a folder, not a scene file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError(path, "cannot open the scene file for reading");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw IoError(path, "error while reading the scene file");
+    return parseScene(ss.str(), path);
+}
+
+namespace {
+
+field::Mesh makePrimitive(const MeshDesc &m) {
+    const std::string &name = m.primitive->value;
+    auto P = [&](const char *k) { return m.params.at(k).value; };
+    auto I = [&](const char *k) { return int(std::lround(m.params.at(k).value)); };
+    if (name == "icosphere") return field::makeIcosphere(I("subdivisions"), P("radius"));
+    if (name == "ellipsoid") return field::makeEllipsoid(I("subdivisions"), P("a"), P("b"), P("c"));
+    if (name == "torus") return field::makeTorus(P("major_radius"), P("minor_radius"), I("nu"), I("nv"));
+    if (name == "genus2") return field::makeGenus2(I("resolution"));
+    if (name == "cube") return field::makeCube(I("n"));
+    if (name == "tetrahedron") return field::makePlatonic(field::Platonic::Tetrahedron, I("subdivisions"));
+    if (name == "octahedron") return field::makePlatonic(field::Platonic::Octahedron, I("subdivisions"));
+    if (name == "dodecahedron") return field::makePlatonic(field::Platonic::Dodecahedron, I("subdivisions"));
+    if (name == "icosahedron") return field::makePlatonic(field::Platonic::Icosahedron, I("subdivisions"));
+    if (name == "disk") return field::makeDisk(I("rings"));
+    if (name == "grid") return field::makeGrid(I("n"));
+    if (name == "cylinder")
+        return field::makeCylinder(P("radius"), P("height"), I("n_around"), I("n_along"));
+    ROSY_CHECK(!"primitive table and makePrimitive() disagree");
+    return {};
+}
+
+} // namespace
+
+Scene buildScene(const SceneDesc &desc) {
+    Scene scene;
+    scene.mesh = desc.mesh.file ? field::loadMesh(desc.mesh.file->value) : makePrimitive(desc.mesh);
+    if (scene.mesh.nFaces() == 0)
+        throw InputError(desc.mesh.loc, "the mesh has no faces");
+
+    const CameraDesc &c = desc.camera;
+    int w = c.resolution.value[0], h = c.resolution.value[1];
+    if (c.automatic) {
+        renderer::FramingOptions fo;
+        fo.direction = c.direction.value;
+        fo.up = c.up.value;
+        fo.fovYDeg = c.fov.value;
+        fo.margin = c.margin.value;
+        fo.projection = c.projection.value;
+        scene.camera = renderer::frameMesh(scene.mesh, w, h, fo);
+    } else if (c.projection.value == renderer::Projection::Perspective) {
+        scene.camera = renderer::Camera::perspective(c.position.value, c.lookAt.value, c.up.value,
+                                                     c.fov.value, w, h);
+    } else {
+        scene.camera = renderer::Camera::orthographic(c.position.value, c.lookAt.value, c.up.value,
+                                                      c.height.value, w, h);
+    }
+
+    if (desc.lightsGiven) {
+        for (const LightDesc &l : desc.lights) scene.lights.push_back(l.light);
+    } else {
+        // A key light over the viewer's left shoulder: the classic illustration setup,
+        // so form reads without the user placing a light.
+        renderer::Light key;
+        key.direction = (-0.6 * scene.camera.right() + 0.8 * scene.camera.up() -
+                         0.7 * scene.camera.forward()).normalized();
+        key.intensity = 1.0;
+        scene.lights.push_back(key);
+    }
+    scene.shading.shadows = desc.shadows.value;
+    scene.shading.ambient = desc.ambient.value;
+    scene.style.paper = desc.paper.value;
+    scene.style.ink = desc.ink.value;
+    scene.style.ambient = desc.ambient.value;
+    scene.output = desc.output.value;
+    return scene;
+}
+
+} // namespace rosy::scenes

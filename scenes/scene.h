@@ -1,0 +1,113 @@
+#pragma once
+/// \file scene.h
+/// The scene file: YAML -> SceneDesc (plain data, every value tagged with where it
+/// came from) -> Scene (loaded mesh, camera, lights). The format is documented in
+/// scenes/README.md. Only this module sees yaml-cpp.
+
+#include "core/error.h"
+#include "field/mesh.h"
+#include "renderer/camera.h"
+#include "renderer/shading.h"
+#include "styles/style.h"
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rosy::scenes {
+
+using Vec3 = Eigen::Vector3d;
+
+/// A value and the place in the scene file it came from. loc.line == 0 means the
+/// value is a default that the file did not set.
+template <typename T>
+struct Located {
+    T value{};
+    FileLoc loc;
+};
+
+/// Where the mesh comes from: a file or a procedural primitive.
+struct MeshDesc {
+    /// Path resolved against the scene file's folder (set when the mesh is a file).
+    std::optional<Located<std::string>> file;
+    /// Primitive name (icosphere, torus, ...), set when the mesh is procedural.
+    std::optional<Located<std::string>> primitive;
+    /// Every parameter of the primitive, defaults filled in (see README.md).
+    std::map<std::string, Located<double>> params;
+    FileLoc loc;
+};
+
+struct CameraDesc {
+    /// True when the camera frames the mesh by itself (`auto: true` or no position).
+    bool automatic = true;
+    Located<renderer::Projection> projection{renderer::Projection::Perspective, {}};
+    Located<Vec3> position;                          ///< manual only
+    Located<Vec3> lookAt;                            ///< manual only
+    Located<Vec3> up{Vec3(0, 1, 0), {}};
+    Located<double> fov{35.0, {}};                   ///< vertical, degrees (perspective)
+    Located<double> height{0.0, {}};                 ///< world image height (manual orthographic)
+    Located<Vec3> direction{Vec3(1.0, 0.55, 1.6), {}}; ///< auto: from the object toward the camera
+    Located<double> margin{0.1, {}};                 ///< auto: free space around the bounding sphere
+    Located<std::array<int, 2>> resolution{{1024, 1024}, {}}; ///< width, height in pixels
+    FileLoc loc;
+};
+
+struct LightDesc {
+    renderer::Light light;
+    FileLoc loc;
+};
+
+struct SceneDesc {
+    /// The scene file as given (used in every message).
+    std::string path;
+    MeshDesc mesh;
+    CameraDesc camera;
+    /// Whether the file had a `lights` key; without it buildScene() adds a default key light.
+    bool lightsGiven = false;
+    std::vector<LightDesc> lights;
+    Located<bool> shadows{true, {}};
+    Located<styles::Rgb> paper{{1.0, 1.0, 1.0}, {}};
+    Located<styles::Rgb> ink{{0.0, 0.0, 0.0}, {}};
+    Located<double> ambient{0.15, {}};
+    /// Output image path (relative to the working directory, as given); default:
+    /// the scene file's stem + ".png".
+    Located<std::string> output;
+};
+
+/// Reads and validates a scene file.
+/// \throws IoError if the file cannot be read.
+/// \throws InputError `FILE:LINE:COL: error: ...` for YAML syntax errors, unknown or
+///   duplicate keys, wrong types, out-of-range values, a missing mesh file.
+SceneDesc parseSceneFile(const std::string &path);
+
+/// Same as parseSceneFile() for text already in memory; `path` names it in messages
+/// and relative mesh paths are resolved against its folder.
+SceneDesc parseScene(const std::string &text, const std::string &path);
+
+/// The objects a render needs.
+struct Scene {
+    field::Mesh mesh;
+    renderer::Camera camera = renderer::Camera::perspective(Vec3(0, 0, 5), Vec3::Zero(),
+                                                             Vec3(0, 1, 0), 35.0, 1, 1);
+    std::vector<renderer::Light> lights;
+    renderer::ShadingOptions shading;
+    styles::Style style;
+    std::string output;
+};
+
+/// Loads the mesh (or builds the primitive), makes the camera and lights.
+/// Without a `lights` key, one directional key light comes from the viewer's upper left.
+/// \throws IoError / InputError from mesh loading; InputError at the camera's location
+///   if the manual camera is degenerate for this mesh.
+Scene buildScene(const SceneDesc &desc);
+
+/// Names the primitives a scene may use, for messages and documentation.
+std::vector<std::string> primitiveNames();
+
+/// Edit distance between two strings (insertions, deletions, substitutions), for
+/// did-you-mean suggestions.
+int editDistance(const std::string &a, const std::string &b);
+
+} // namespace rosy::scenes

@@ -1,0 +1,124 @@
+// End-to-end: run the rosyhatch binary on tiny scenes and check exit codes,
+// messages and the written files.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBinary = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
+
+fs::path workDir() {
+    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "cli";
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string slurp(const fs::path &p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+struct CliRun {
+    int exitCode;
+    std::string out, err;
+};
+
+/// Runs rosyhatch with `args` (already shell-quoted) from the work folder.
+CliRun run(const std::string &args, const std::string &tag) {
+    fs::path dir = workDir();
+    fs::path out = dir / (tag + ".stdout"), err = dir / (tag + ".stderr");
+    std::string cmd = "cd '" + dir.string() + "' && '" + kBinary + "' " + args + " >'" + out.string() +
+                      "' 2>'" + err.string() + "'";
+    int status = std::system(cmd.c_str());
+    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return {code, slurp(out), slurp(err)};
+}
+
+fs::path writeScene(const std::string &name, const std::string &text) {
+    fs::path p = workDir() / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+const char *kTinyScene = "mesh: {primitive: icosphere, subdivisions: 2}\n"
+                         "camera: {resolution: [48, 40]}\n"
+                         "lights: [{type: directional, direction: [1, 1, 1]}]\n"
+                         "output: tiny.png\n";
+
+} // namespace
+
+TEST(RenderCli, WritesImageAndPrintsItsPath) {
+    fs::path scene = writeScene("tiny.yaml", kTinyScene);
+    fs::remove(workDir() / "tiny.png");
+    CliRun r = run("render '" + scene.string() + "' --quiet", "ok");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("tiny.png"), std::string::npos) << r.out;
+    std::string png = slurp(workDir() / "tiny.png");
+    ASSERT_GT(png.size(), 8u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+}
+
+TEST(RenderCli, BadSceneExitsTwoWithLocatedMessage) {
+    fs::path scene = writeScene("bad.yaml", "mesh: {primitive: icosphere}\ncamera: {fov: 500}\n");
+    CliRun r = run("render '" + scene.string() + "'", "bad");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err.rfind(scene.string() + ":2:15: error: camera.fov", 0), 0u) << r.err;
+}
+
+TEST(RenderCli, UnwritableOutputFolderExitsThreeBeforeRendering) {
+    fs::path scene = writeScene("tiny3.yaml", kTinyScene);
+    CliRun r = run("render '" + scene.string() + "' -o no-such-folder/x.png", "unwritable");
+    EXPECT_EQ(r.exitCode, 3) << r.err;
+    EXPECT_NE(r.err.find("no-such-folder"), std::string::npos) << r.err;
+}
+
+TEST(RenderCli, MissingSceneFileExitsThree) {
+    CliRun r = run("render does-not-exist.yaml", "missing");
+    EXPECT_EQ(r.exitCode, 3) << r.err;
+}
+
+TEST(RenderCli, UnsupportedOutputExtensionExitsTwo) {
+    fs::path scene = writeScene("tiny4.yaml", kTinyScene);
+    CliRun r = run("render '" + scene.string() + "' -o x.gif", "ext");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+}
+
+TEST(RenderCli, UsageErrorsExitTwo) {
+    EXPECT_EQ(run("render", "noscene").exitCode, 2);
+    EXPECT_EQ(run("render x.yaml --no-such-flag", "badflag").exitCode, 2);
+    EXPECT_EQ(run("", "nosub").exitCode, 2);
+}
+
+TEST(RenderCli, HelpAndVersionExitZero) {
+    CliRun help = run("--help", "help");
+    EXPECT_EQ(help.exitCode, 0);
+    EXPECT_NE(help.out.find("render"), std::string::npos);
+    CliRun renderHelp = run("render --help", "renderhelp");
+    EXPECT_EQ(renderHelp.exitCode, 0);
+    EXPECT_NE(renderHelp.out.find("--threads"), std::string::npos);
+    CliRun version = run("--version", "version");
+    EXPECT_EQ(version.exitCode, 0);
+    EXPECT_NE(version.out.find("rosyhatch"), std::string::npos);
+}
+
+TEST(RenderCli, SameBytesForOneAndTwoThreads) {
+    fs::path scene = writeScene("threads.yaml", "mesh: {primitive: torus, nu: 24, nv: 12}\n"
+                                                "camera: {resolution: [64, 48]}\n");
+    CliRun a = run("render '" + scene.string() + "' -o t1.png --threads 1 --timings t1.json", "t1");
+    CliRun b = run("render '" + scene.string() + "' -o t2.png --threads 2", "t2");
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    std::string one = slurp(workDir() / "t1.png"), two = slurp(workDir() / "t2.png");
+    ASSERT_FALSE(one.empty());
+    EXPECT_EQ(one, two);
+    std::string timings = slurp(workDir() / "t1.json");
+    EXPECT_NE(timings.find("\"gbuffer\""), std::string::npos) << timings;
+    EXPECT_NE(timings.find("\"total\""), std::string::npos) << timings;
+}

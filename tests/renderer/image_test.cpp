@@ -1,0 +1,189 @@
+#include "renderer/image.h"
+
+#include "core/error.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+
+using namespace rosy::renderer;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path freshDir(const std::string &name) {
+    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "image" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+struct ReadBack {
+    OIIO::ImageSpec spec;
+    std::vector<float> floats;
+    std::vector<unsigned char> bytes;
+};
+
+ReadBack readBack(const fs::path &path) {
+    ReadBack r;
+    // Read the stored values as they are, without premultiplying by alpha.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path.string(), &config);
+    EXPECT_TRUE(in) << OIIO::geterror();
+    if (!in) return r;
+    r.spec = in->spec();
+    size_t n = size_t(r.spec.width) * size_t(r.spec.height) * size_t(r.spec.nchannels);
+    r.floats.resize(n);
+    r.bytes.resize(n);
+    EXPECT_TRUE(in->read_image(0, 0, 0, r.spec.nchannels, OIIO::TypeDesc::FLOAT, r.floats.data()));
+    EXPECT_TRUE(in->read_image(0, 0, 0, r.spec.nchannels, OIIO::TypeDesc::UINT8, r.bytes.data()));
+    in->close();
+    return r;
+}
+
+std::string slurp(const fs::path &p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+} // namespace
+
+TEST(LinearToSrgb, MatchesTheStandardCurve) {
+    // IEC 61966-2-1: linear segment below 0.0031308, power 1/2.4 above.
+    EXPECT_DOUBLE_EQ(linearToSrgb(0.0), 0.0);
+    EXPECT_DOUBLE_EQ(linearToSrgb(1.0), 1.0);
+    EXPECT_NEAR(linearToSrgb(0.001), 0.01292, 1e-12);
+    EXPECT_NEAR(linearToSrgb(0.5), 0.735356983, 1e-8);
+    EXPECT_NEAR(linearToSrgb(0.214041140), 0.5, 1e-6);
+    EXPECT_EQ(linearToSrgb(std::numeric_limits<double>::quiet_NaN()), 0.0);
+    EXPECT_EQ(linearToSrgb(-3.0), 0.0);
+    EXPECT_EQ(linearToSrgb(7.0), 1.0);
+}
+
+TEST(WriteImage, PngRoundTripIsSrgbEncoded) {
+    fs::path dir = freshDir("png");
+    Image img(4, 2, {"R", "G", "B"});
+    // Hand-computed 8-bit sRGB codes: round(255 * srgb(v)).
+    const float in[8] = {0.0f, 1.0f, 0.5f, 0.18f, 0.001f, 0.05f, 0.8f, 2.0f};
+    const int code[8] = {0, 255, 188, 118, 3, 63, 231, 255};
+    for (int i = 0; i < 8; ++i)
+        for (int c = 0; c < 3; ++c) img.at(i % 4, i / 4, c) = c == 1 ? in[i] : 0.0f;
+    img.at(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
+    fs::path out = dir / "ramp.png";
+    writeImage(img, out.string());
+    ReadBack r = readBack(out);
+    ASSERT_EQ(r.spec.width, 4);
+    ASSERT_EQ(r.spec.height, 2);
+    ASSERT_EQ(r.spec.nchannels, 3);
+    EXPECT_EQ(r.spec.format, OIIO::TypeDesc::UINT8);
+    for (int i = 0; i < 8; ++i) {
+        EXPECT_EQ(int(r.bytes[size_t(i) * 3 + 1]), code[i]) << "value " << in[i];
+        EXPECT_EQ(int(r.bytes[size_t(i) * 3 + 0]), 0);
+    }
+    // Only the final file remains.
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+TEST(WriteImage, PngAlphaStaysLinear) {
+    fs::path dir = freshDir("alpha");
+    Image img(1, 1, {"R", "G", "B", "A"});
+    img.at(0, 0, 0) = 0.5f;
+    img.at(0, 0, 3) = 0.5f;
+    writeImage(img, (dir / "a.png").string());
+    ReadBack r = readBack(dir / "a.png");
+    ASSERT_EQ(r.spec.nchannels, 4);
+    EXPECT_EQ(r.spec.alpha_channel, 3);
+    EXPECT_EQ(int(r.bytes[0]), 188);
+    EXPECT_EQ(int(r.bytes[3]), 128); // round(0.5 * 255) = 127.5 -> 128
+}
+
+TEST(WriteImage, ExrKeepsFloatsAndChannelNames) {
+    fs::path dir = freshDir("exr");
+    Image img(3, 2, {"R", "G", "B", "A", "depth"});
+    for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i) * 1.25f - 7.0f;
+    img.data[7] = 123456.5f;
+    fs::path out = dir / "multi.EXR"; // extension is case-insensitive
+    writeImage(img, out.string());
+    ReadBack r = readBack(out);
+    ASSERT_EQ(r.spec.nchannels, 5);
+    EXPECT_EQ(r.spec.channelnames, img.channelNames);
+    EXPECT_EQ(r.spec.format, OIIO::TypeDesc::FLOAT);
+    ASSERT_EQ(r.floats.size(), img.data.size());
+    for (size_t i = 0; i < img.data.size(); ++i) EXPECT_EQ(r.floats[i], img.data[i]);
+}
+
+TEST(WriteImage, ExrHalfStoresHalfFloats) {
+    fs::path dir = freshDir("half");
+    Image img(2, 1, {"Y"});
+    img.data = {0.5f, -2.25f}; // exactly representable in half
+    ImageWriteOptions opt;
+    opt.exrHalf = true;
+    writeImage(img, (dir / "h.exr").string(), opt);
+    ReadBack r = readBack(dir / "h.exr");
+    EXPECT_EQ(r.spec.format, OIIO::TypeDesc::HALF);
+    EXPECT_EQ(r.floats, img.data);
+}
+
+TEST(WriteImage, UnknownExtensionIsAnInputErrorListingFormats) {
+    fs::path dir = freshDir("ext");
+    Image img(1, 1, {"R", "G", "B"});
+    std::string path = (dir / "out.bmp").string();
+    try {
+        writeImage(img, path);
+        FAIL() << "expected InputError";
+    } catch (const rosy::InputError &e) {
+        std::string what = e.what();
+        EXPECT_EQ(what.rfind(path + ": error: ", 0), 0u) << what;
+        EXPECT_NE(what.find(".png"), std::string::npos);
+        EXPECT_NE(what.find(".exr"), std::string::npos);
+    }
+    EXPECT_FALSE(fs::exists(path));
+}
+
+TEST(WriteImage, MissingFolderIsAnIoError) {
+    fs::path dir = freshDir("missing");
+    std::string path = (dir / "no-such-folder" / "x.png").string();
+    Image img(2, 2, {"R", "G", "B"});
+    EXPECT_THROW(writeImage(img, path), rosy::IoError);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 0);
+}
+
+TEST(WriteImage, FailedWriteLeavesExistingFileAndNoTemporary) {
+    fs::path dir = freshDir("failed");
+    // A 244-character name is legal, but the temporary name next to it exceeds the
+    // 255-byte limit of common file systems, so opening the temporary file fails.
+    fs::path path = dir / (std::string(240, 'k') + ".png");
+    {
+        std::ofstream(path, std::ios::binary) << "precious";
+    }
+    ASSERT_EQ(slurp(path), "precious");
+    Image img(2, 2, {"R", "G", "B"});
+    EXPECT_THROW(writeImage(img, path.string()), rosy::IoError);
+    EXPECT_EQ(slurp(path), "precious");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+TEST(WriteImage, OversizedJpegIsAnInputError) {
+    fs::path dir = freshDir("jpeg");
+    Image img(70000, 1, {"R", "G", "B"});
+    EXPECT_THROW(writeImage(img, (dir / "wide.jpg").string()), rosy::InputError);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 0);
+}
+
+TEST(WriteImage, EqualImagesGiveEqualFiles) {
+    fs::path dir = freshDir("determinism");
+    Image img(8, 8, {"R", "G", "B"});
+    for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i % 17) / 16.0f;
+    for (const char *ext : {".png", ".exr", ".tif", ".jpg"}) {
+        fs::path a = dir / (std::string("a") + ext), b = dir / (std::string("b") + ext);
+        writeImage(img, a.string());
+        writeImage(img, b.string());
+        EXPECT_EQ(slurp(a), slurp(b)) << ext;
+    }
+}

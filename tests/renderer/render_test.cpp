@@ -1,0 +1,206 @@
+// The G-buffer and Lambert tone on hand-built spheres with known images.
+
+#include "renderer/camera.h"
+#include "renderer/embree_scene.h"
+#include "renderer/gbuffer.h"
+#include "renderer/shading.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+using namespace rosy::renderer;
+
+namespace {
+
+struct Rendered {
+    rosy::field::Mesh mesh;
+    Camera camera;
+    GBuffer gbuffer;
+};
+
+Rendered renderSphere(int size, const FramingOptions &opt) {
+    rosy::field::Mesh mesh = rosy::test::makeSphere(4);
+    Camera cam = frameMesh(mesh, size, size, opt);
+    RayScene scene(mesh);
+    GBuffer g = renderGBuffer(scene, mesh, cam);
+    return {std::move(mesh), cam, std::move(g)};
+}
+
+double coveredFraction(const GBuffer &g) {
+    int n = 0;
+    for (int id : g.faceId) n += id >= 0;
+    return double(n) / double(g.nPixels());
+}
+
+} // namespace
+
+TEST(RayScene, HitsSphereAtAnalyticDistance) {
+    rosy::field::Mesh mesh = rosy::test::makeSphere(4);
+    RayScene scene(mesh);
+    Ray ray;
+    ray.origin = Vec3(0, 0, 5);
+    ray.dir = Vec3(0, 0, -1);
+    Hit hit = scene.intersect(ray);
+    ASSERT_TRUE(hit.valid());
+    // The vertex (0, 0, 1) lies on the axis, so the hit is exactly there (float precision).
+    EXPECT_NEAR(hit.t, 4.0, 1e-5);
+    EXPECT_TRUE(scene.occluded(ray));
+    ray.origin = Vec3(2, 0, 5);
+    EXPECT_FALSE(scene.intersect(ray).valid());
+    EXPECT_FALSE(scene.occluded(ray));
+}
+
+TEST(RayScene, EmptyMeshMissesEverything) {
+    rosy::field::Mesh empty;
+    RayScene scene(empty);
+    Ray ray;
+    EXPECT_FALSE(scene.intersect(ray).valid());
+    EXPECT_FALSE(scene.occluded(ray));
+}
+
+TEST(GBuffer, PerspectiveCoverageMatchesProjectedDiskArea) {
+    FramingOptions opt;
+    opt.direction = Vec3(0.3, 0.4, 1.0);
+    opt.margin = 0.2;
+    Rendered r = renderSphere(64, opt);
+    ASSERT_EQ(r.gbuffer.width, 64);
+    ASSERT_EQ(r.gbuffer.height, 64);
+    // Independent of the framing code: a unit sphere at distance d has an image disk of
+    // radius tan(asin(1/d)) / tan(fov/2) * H/2 pixels.
+    double d = r.camera.position().norm();
+    double rPx = std::tan(std::asin(1.0 / d)) / std::tan(0.5 * opt.fovYDeg * M_PI / 180.0) * 32.0;
+    double expected = M_PI * rPx * rPx / (64.0 * 64.0);
+    EXPECT_NEAR(coveredFraction(r.gbuffer) / expected, 1.0, 0.04);
+}
+
+TEST(GBuffer, OrthographicCoverageMatchesDiskArea) {
+    FramingOptions opt;
+    opt.projection = Projection::Orthographic;
+    opt.margin = 0.1;
+    Rendered r = renderSphere(64, opt);
+    double rPx = 64.0 / r.camera.viewHeight(); // unit radius in pixels
+    double expected = M_PI * rPx * rPx / (64.0 * 64.0);
+    EXPECT_NEAR(coveredFraction(r.gbuffer) / expected, 1.0, 0.04);
+}
+
+TEST(GBuffer, StoresSurfaceGeometry) {
+    Rendered r = renderSphere(32, {});
+    const GBuffer &g = r.gbuffer;
+    int checked = 0;
+    for (size_t i = 0; i < g.nPixels(); ++i) {
+        if (g.faceId[i] < 0) {
+            EXPECT_EQ(g.depth[i], 0.0);
+            continue;
+        }
+        ++checked;
+        // On (a fine polyhedron inscribed in) the unit sphere the smooth normal is the
+        // radial direction and the point lies at radius ~1, facing the camera.
+        EXPECT_NEAR(g.position[i].norm(), 1.0, 0.01);
+        EXPECT_GT(g.normal[i].dot(g.position[i].normalized()), 0.995);
+        EXPECT_GT(g.normal[i].dot(r.camera.toViewer(g.position[i])), -0.05);
+        EXPECT_NEAR(g.depth[i], (g.position[i] - r.camera.position()).dot(r.camera.forward()), 1e-9);
+    }
+    EXPECT_GT(checked, 100);
+}
+
+TEST(GBuffer, IdenticalForAnyThreadCount) {
+    rosy::field::Mesh mesh = rosy::test::makeSphere(3);
+    Camera cam = frameMesh(mesh, 48, 40);
+    RayScene scene(mesh);
+    GBuffer one, two;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = renderGBuffer(scene, mesh, cam);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        two = renderGBuffer(scene, mesh, cam);
+    }
+    EXPECT_EQ(one.faceId, two.faceId);
+    EXPECT_EQ(one.depth, two.depth);
+}
+
+TEST(Shading, LitSideBrighterAndBackgroundIsPaper) {
+    FramingOptions opt;
+    opt.direction = Vec3(0, 0, 1); // raster +x is world +x
+    Rendered r = renderSphere(64, opt);
+    RayScene scene(r.mesh);
+    Light light;
+    light.direction = Vec3(1, 0, 0.3);
+    ShadingOptions so;
+    so.ambient = 0.1;
+    std::vector<double> tone = shadeLambert(r.gbuffer, scene, r.mesh, r.camera, {light}, so);
+    double left = 0, right = 0;
+    int nLeft = 0, nRight = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            double t = tone[size_t(r.gbuffer.index(x, y))];
+            ASSERT_GE(t, 0.0);
+            ASSERT_LE(t, 1.0);
+            if (!r.gbuffer.covered(x, y)) {
+                EXPECT_EQ(t, 1.0);
+                continue;
+            }
+            (x < 32 ? left : right) += t;
+            (x < 32 ? nLeft : nRight) += 1;
+        }
+    ASSERT_GT(nLeft, 100);
+    ASSERT_GT(nRight, 100);
+    EXPECT_GT(right / nRight, left / nLeft + 0.3);
+
+    rosy::styles::Style style;
+    style.paper = {0.9, 0.8, 0.7};
+    style.ink = {0.1, 0.0, 0.2};
+    Image img = toneImage(tone, 64, 64, style);
+    ASSERT_EQ(img.nChannels, 3);
+    for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(img.at(0, 0, k), float(style.paper[size_t(k)]));
+    // The point of the sphere facing away from the light, seen edge-on from the front,
+    // gets only the ambient tone: ink + 0.1 (paper - ink).
+    Vec2 dark = r.camera.project(Vec3(-0.97, 0.0, 0.2));
+    int dx = int(dark.x()), dy = int(dark.y());
+    ASSERT_TRUE(r.gbuffer.covered(dx, dy));
+    EXPECT_NEAR(img.at(dx, dy, 0), 0.1 + 0.1 * 0.8, 1e-6);
+}
+
+TEST(Shading, LambertCosineAtSphereCentre) {
+    FramingOptions opt;
+    opt.direction = Vec3(0, 0, 1);
+    Rendered r = renderSphere(33, opt); // odd size: pixel 16 sits on the axis
+    RayScene scene(r.mesh);
+    Light light;
+    light.direction = Vec3(0, std::sin(M_PI / 3), std::cos(M_PI / 3)); // 60 deg from the view axis
+    ShadingOptions so;
+    so.ambient = 0.0;
+    std::vector<double> tone = shadeLambert(r.gbuffer, scene, r.mesh, r.camera, {light}, so);
+    // Normal at the centre pixel is +z: tone = cos 60 deg = 0.5.
+    EXPECT_NEAR(tone[size_t(r.gbuffer.index(16, 16))], 0.5, 0.01);
+}
+
+TEST(Shading, SphereCastsShadowOnFloor) {
+    rosy::field::Mesh mesh = rosy::test::makeSphereOverFloor(3, -1.5, 4.0);
+    Camera cam = Camera::perspective(Vec3(0, -6, 4), Vec3(0, 0, -1.5), Vec3(0, 0, 1), 50.0, 64, 64);
+    RayScene scene(mesh);
+    GBuffer g = renderGBuffer(scene, mesh, cam);
+    Light light;
+    light.direction = Vec3(0, 0, 1); // straight down onto the floor
+    // A floor point at distance 2.5 from the axis, in front of the sphere: lit. Directly
+    // below the sphere (distance 0.5 from its axis): in shadow. Pick the spots in view.
+    Vec2 lit = cam.project(Vec3(0, -2.5, -1.5));
+    Vec2 shadowed = cam.project(Vec3(0.0, -0.9, -1.5));
+    int il = g.index(int(lit.x()), int(lit.y())), is = g.index(int(shadowed.x()), int(shadowed.y()));
+    ASSERT_GE(g.faceId[size_t(il)], 0);
+    ASSERT_GE(g.faceId[size_t(is)], 0);
+    ASSERT_NEAR(g.position[size_t(is)].z(), -1.5, 1e-6) << "the shadow probe must see the floor";
+    ShadingOptions so;
+    so.ambient = 0.2;
+    so.shadows = true;
+    std::vector<double> withShadows = shadeLambert(g, scene, mesh, cam, {light}, so);
+    EXPECT_NEAR(withShadows[size_t(il)], 1.0, 1e-9);
+    EXPECT_NEAR(withShadows[size_t(is)], 0.2, 1e-9);
+    so.shadows = false;
+    std::vector<double> without = shadeLambert(g, scene, mesh, cam, {light}, so);
+    EXPECT_NEAR(without[size_t(is)], 1.0, 1e-9);
+}
