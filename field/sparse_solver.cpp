@@ -1,6 +1,6 @@
 #include "field/sparse_solver.h"
 
-#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
 #include <Eigen/UmfPackSupport>
 
 #include <mutex>
@@ -23,23 +23,22 @@ void pinBlasThreads() {
 } // namespace
 
 struct HermitianSolver::Impl {
-    Eigen::CholmodSupernodalLLT<SparseMatrixC, Eigen::Lower> llt;
+    Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> ldlt;
 };
 
 HermitianSolver::HermitianSolver(const SparseMatrixC &matrix) : m_impl(std::make_unique<Impl>()) {
-    pinBlasThreads();
-    m_impl->llt.compute(matrix);
-    if (m_impl->llt.info() != Eigen::Success)
-        throw std::runtime_error("CHOLMOD Cholesky factorization failed (matrix of size " +
+    m_impl->ldlt.compute(matrix);
+    if (m_impl->ldlt.info() != Eigen::Success)
+        throw std::runtime_error("sparse LDLT factorization failed (matrix of size " +
                                  std::to_string(matrix.rows()) + " not positive definite?)");
 }
 
 HermitianSolver::~HermitianSolver() = default;
 
 Eigen::VectorXcd HermitianSolver::solve(const Eigen::VectorXcd &rhs) const {
-    Eigen::VectorXcd x = m_impl->llt.solve(rhs);
-    if (m_impl->llt.info() != Eigen::Success || !x.allFinite())
-        throw std::runtime_error("CHOLMOD solve failed");
+    Eigen::VectorXcd x = m_impl->ldlt.solve(rhs);
+    if (m_impl->ldlt.info() != Eigen::Success || !x.allFinite())
+        throw std::runtime_error("sparse LDLT solve failed");
     return x;
 }
 
