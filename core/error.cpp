@@ -1,21 +1,26 @@
 #include "core/error.h"
 
+#include <sstream>
+
 namespace rosy {
 
 std::string FileLoc::str() const {
-    std::string s = path.empty() ? std::string("<input>") : path;
+    std::ostringstream os;
+    os << (path.empty() ? std::string("<input>") : path);
     if (line > 0) {
-        s += ":" + std::to_string(line);
-        if (col > 0) s += ":" + std::to_string(col);
+        os << ":" << line;
+        if (col > 0) os << ":" << col;
     }
-    return s;
+    return os.str();
 }
 
+// Streams rather than operator+ chains: GCC 12 reports a false -Wrestrict on those.
 static std::string formatInput(const FileLoc &loc, const std::string &message,
                                const std::string &hint) {
-    std::string s = loc.str() + ": error: " + message;
-    if (!hint.empty()) s += "; " + hint;
-    return s;
+    std::ostringstream os;
+    os << loc.str() << ": error: " << message;
+    if (!hint.empty()) os << "; " << hint;
+    return os.str();
 }
 
 InputError::InputError(FileLoc loc, const std::string &message, const std::string &hint)
@@ -23,13 +28,14 @@ InputError::InputError(FileLoc loc, const std::string &message, const std::strin
       m_message(message) {}
 
 IoError::IoError(const std::string &path, const std::string &message)
-    : std::runtime_error(path + ": error: " + message), m_path(path) {}
+    : std::runtime_error(formatInput(FileLoc{path}, message, {})), m_path(path) {}
 
 namespace detail {
 void checkFailed(const char *file, int line, const std::string &what) {
-    throw CheckFailure(std::string(file) + ":" + std::to_string(line) +
-                       ": internal check failed: " + what +
-                       " (this is a bug in rosyhatch; please report it)");
+    std::ostringstream os;
+    os << file << ":" << line << ": internal check failed: " << what
+       << " (this is a bug in rosyhatch; please report it)";
+    throw CheckFailure(os.str());
 }
 } // namespace detail
 

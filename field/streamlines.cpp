@@ -94,7 +94,8 @@ double distanceToSegment(const Vec3 &p, const Vec3 &a, const Vec3 &b) {
 /// One direction of tracing; appends to `line` (which already holds the seed point).
 StreamlineStop traceHalf(const TangentFrames &frames, const RosyField &field, int face, Vec3 b,
                          Vec3 direction3D, const StreamlineOptions &opt, double step, double maxLength,
-                         double closeTol, const std::vector<int> *faceIndex, Streamline &line) {
+                         double closeTol, const std::vector<int> *faceIndex, bool reverse,
+                         Streamline &line) {
     const Mesh &mesh = frames.mesh();
     const int nSym = field.nSym;
     FaceChart chart;
@@ -112,6 +113,12 @@ StreamlineStop traceHalf(const TangentFrames &frames, const RosyField &field, in
     bool straight = opt.leaveStartFaceStraight;
     double length = 0;
     int stalls = 0;
+    // Against the flow the line follows the negated member closest to the reversed
+    // heading; for odd N this is the only way back along a line, for even N it agrees
+    // with the forward rule.
+    auto follow = [&](Complex u, double headingRad) {
+        return reverse ? closestMember(u, nSym, headingRad + M_PI) + M_PI : closestMember(u, nSym, headingRad);
+    };
     auto singular = [&](int f) {
         return opt.stopAtSingularFaces && faceIndex && (*faceIndex)[f] != 0;
     };
@@ -128,7 +135,7 @@ StreamlineStop traceHalf(const TangentFrames &frames, const RosyField &field, in
             Complex u0 = chart.value(b);
             // Relative threshold: the field's own scale in this face decides what "zero" is.
             if (!(std::abs(u0) > 1e-9 * chart.uScale)) return StreamlineStop::ZeroField;
-            angle = closestMember(u0, nSym, heading);
+            angle = follow(u0, heading);
         }
         // Implicit midpoint: the direction is the field's at the middle of the segment
         // it produces. For a linear rotational field this keeps |p| exactly, so closed
@@ -142,7 +149,7 @@ StreamlineStop traceHalf(const TangentFrames &frames, const RosyField &field, in
             if (straight) break;
             Complex um = chart.value(b + 0.5 * t * rate);
             if (!(std::abs(um) > 1e-9 * chart.uScale)) break;
-            angle = closestMember(um, nSym, angle);
+            angle = follow(um, angle);
         }
         Vec2 d(std::cos(angle), std::sin(angle));
         Vec3 rate = chart.baryRate(d);
@@ -160,13 +167,15 @@ StreamlineStop traceHalf(const TangentFrames &frames, const RosyField &field, in
         length += t;
 
         // Closed loop: back near the start, heading the same way.
-        if (!leftStart && (pNew - start).norm() > 2 * closeTol) leftStart = true;
+        // The test uses whether the line had left the start before this segment, so the
+        // first segments (which start at the seed) never count.
         if (leftStart && distanceToSegment(start, pOld, pNew) < closeTol && (pNew - pOld).dot(startDir) > 0) {
-            line.length += (start - pOld).norm() - (pNew - pOld).norm() + t;
+            line.length += (start - pOld).norm();
             line.points.push_back(start);
             line.faces.push_back(chart.face);
             return StreamlineStop::Closed;
         }
+        if (!leftStart && (pNew - start).norm() > 4 * closeTol) leftStart = true;
         if (!crossing) {
             stalls = 0;
             line.points.push_back(pNew);
@@ -236,13 +245,13 @@ Streamline traceStreamline(const TangentFrames &frames, const RosyField &field, 
 
     line.points.push_back(seed);
     line.faces.push_back(face);
-    line.stop = traceHalf(frames, field, face, b, dir, options, step, maxLength, closeTol, faceIndex, line);
+    line.stop = traceHalf(frames, field, face, b, dir, options, step, maxLength, closeTol, faceIndex, options.reverseField, line);
     if (options.bothDirections && line.stop != StreamlineStop::Closed) {
         Streamline back;
         back.points.push_back(seed);
         back.faces.push_back(face);
         line.stopBackward = traceHalf(frames, field, face, b, -dir, options, step,
-                                      maxLength, closeTol, faceIndex, back);
+                                      maxLength, closeTol, faceIndex, !options.reverseField, back);
         std::vector<Vec3> pts(back.points.rbegin(), back.points.rend());
         std::vector<int> fcs(back.faces.rbegin(), back.faces.rend());
         pts.insert(pts.end(), line.points.begin() + 1, line.points.end());

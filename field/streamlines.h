@@ -42,7 +42,11 @@ struct StreamlineOptions {
     int maxSteps = 100000;
     /// Stop on entering a face with a nonzero index (needs the faceIndex argument).
     bool stopAtSingularFaces = true;
-    /// Also trace backwards from the seed (heading −direction) and prepend that half.
+    /// Follow the field backwards: at each point the negation of the member closest to
+    /// the reversed heading. Matters for odd N only (incoming separatrices).
+    bool reverseField = false;
+    /// Also trace backwards from the seed (heading −direction, reverseField flipped) and
+    /// prepend that half, so the polyline runs along the field.
     bool bothDirections = false;
     /// Closing distance, world units: the line is Closed when a segment passes this
     /// close to the start point while heading the same way. ≤ 0: half the step length.

@@ -1,5 +1,6 @@
 #include "core/error.h"
 #include "field/design.h"
+#include "field/field_builder.h"
 #include "field/primitives.h"
 #include "field/singularities.h"
 
@@ -114,4 +115,36 @@ TEST(Design, RejectsBadElements) {
     normalDir.direction = Vec3::UnitZ();
     EXPECT_THROW(designField(fr, 4, {normalDir}), rosy::InputError);
     EXPECT_THROW(designField(fr, 4, {}), rosy::InputError);
+}
+
+TEST(Design, ElementsConstrainACurvatureField) {
+    // A +1 / −1 pair on a torus over its (singularity-free) curvature cross field:
+    // the elements' faces get their indices, the element vertices keep Eq. 13's values.
+    Mesh torus = makeTorus(2.0, 0.8, 40, 20);
+    TangentFrames fr(torus);
+    FieldSpec spec;
+    DesignElement pos, neg;
+    pos.position = Vec3(2.8, 0.0, 0.0);
+    pos.order = 1;
+    neg.position = Vec3(-2.8, 0.0, 0.0);
+    neg.order = -1;
+    spec.elements = {pos, neg};
+    FieldResult r = buildField(fr, spec);
+    SingularityReport rep = findSingularities(fr, r.field);
+    EXPECT_EQ(rep.indexNumeratorSum, 0);
+    int atPos = 0, atNeg = 0;
+    for (const auto &s : rep.singularities) {
+        if (s.face == snapToSurface(torus, pos.position).face) atPos = s.indexNumerator;
+        if (s.face == snapToSurface(torus, neg.position).face) atNeg = s.indexNumerator;
+    }
+    EXPECT_EQ(atPos, 1);
+    EXPECT_EQ(atNeg, -1);
+    std::vector<char> fixed;
+    Eigen::VectorXcd values;
+    elementConstraints(fr, 4, spec.elements, fixed, values);
+    for (int v = 0; v < torus.nVertices(); ++v) {
+        if (fixed[v]) {
+            EXPECT_EQ(r.field.u[v], values[v]);
+        }
+    }
 }

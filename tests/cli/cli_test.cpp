@@ -122,3 +122,50 @@ TEST(RenderCli, SameBytesForOneAndTwoThreads) {
     EXPECT_NE(timings.find("\"gbuffer\""), std::string::npos) << timings;
     EXPECT_NE(timings.find("\"total\""), std::string::npos) << timings;
 }
+
+// --- rosyhatch field --------------------------------------------------------
+
+TEST(FieldCli, ReportsSingularitiesAndPoincareHopf) {
+    const std::string mesh = std::string(ROSY_DATA_DIR) + "/meshes/fandisk.off";
+    fs::remove(workDir() / "fandisk.json");
+    fs::remove(workDir() / "fandisk.ply");
+    CliRun r = run("field '" + mesh + "' -n 4 --json fandisk.json --export fandisk.ply", "field-ok");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("Poincare-Hopf holds"), std::string::npos) << r.out;
+    const std::string json = slurp(workDir() / "fandisk.json");
+    for (const char *key : {"\"mesh\"", "\"vertices\"", "\"faces\"", "\"euler_characteristic\": 2",
+                            "\"boundary_loops\": 0", "\"components\": 1", "\"field\"", "\"symmetry\": 4",
+                            "\"source\": \"curvature\"", "\"singularities\"", "\"index_numerator\"",
+                            "\"index_sum\": 2", "\"holds\": true", "\"timings_ms\"", "\"singularities\": "})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+    // The PLY export: header declares N member directions per vertex.
+    const std::string ply = slurp(workDir() / "fandisk.ply");
+    EXPECT_EQ(ply.rfind("ply\nformat ascii 1.0\n", 0), 0u);
+    EXPECT_NE(ply.find("comment symmetry 4"), std::string::npos);
+    EXPECT_NE(ply.find("property double m3z"), std::string::npos);
+    EXPECT_EQ(ply.find("property double m4x"), std::string::npos);
+}
+
+TEST(FieldCli, DesignElementOnAPrimitiveScene) {
+    fs::path scene = writeScene("disk.yaml", "mesh: {primitive: disk}\n");
+    CliRun r = run("field '" + scene.string() + "' -n 3 --source design --element -1,0.1,0.05,0 --json disk.json",
+                   "field-design");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string json = slurp(workDir() / "disk.json");
+    EXPECT_NE(json.find("\"index_numerator\": -1"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"holds\": true"), std::string::npos);
+}
+
+TEST(FieldCli, BadParametersExitTwo) {
+    const std::string mesh = std::string(ROSY_DATA_DIR) + "/meshes/fandisk.off";
+    for (const std::string args : {"-n 0", "-n 99", "--source magic", "--source design",
+                                   "--element 2,0,0,0", "--element 1,x,0,0", "--global-smoothing -3"}) {
+        CliRun r = run("field '" + mesh + "' " + args, "field-bad");
+        EXPECT_EQ(r.exitCode, 2) << args << ": " << r.err;
+        EXPECT_NE(r.err.find("error:"), std::string::npos) << args << ": " << r.err;
+    }
+    CliRun missing = run("field /nonexistent/mesh.off", "field-missing");
+    EXPECT_EQ(missing.exitCode, 3) << missing.err;
+    CliRun outDir = run("field '" + mesh + "' --json /nonexistent-dir/x.json", "field-outdir");
+    EXPECT_EQ(outDir.exitCode, 3) << outDir.err;
+}
