@@ -119,11 +119,13 @@ std::vector<SeparatrixDirection> separatrixDirections(const Eigen::Matrix2d &jac
         const Vec2 w = j * v;
         if (!(w.norm() > 1e-9)) continue; // a kernel direction of J has no field direction
         const double dot = std::cos(nSym * theta) * w.x() + std::sin(nSym * theta) * w.y();
+        // Angles in [0, 2π); a root that rounded to just below π lands at 0, not 2π.
+        auto wrap = [](double a) { return a >= 2 * M_PI - 1e-12 ? 0.0 : a; };
         if (nSym % 2 == 0) {
-            out.push_back({dot > 0 ? theta : theta + M_PI, false});
+            out.push_back({wrap(dot > 0 ? theta : theta + M_PI), false});
         } else {
             out.push_back({theta, dot < 0});
-            out.push_back({theta + M_PI, dot < 0});
+            out.push_back({wrap(theta + M_PI), dot < 0});
         }
     }
     std::sort(out.begin(), out.end(),
@@ -142,6 +144,9 @@ std::vector<Separatrix> traceSeparatrices(const TangentFrames &frames, const Ros
         mesh.bounds(lo, hi);
         opt.maxLength = options.maxLengthRelative * (hi - lo).norm();
     }
+    // Resolved once here: the mean edge length is a pass over the whole mesh, far more
+    // than tracing one short separatrix costs.
+    if (!(opt.stepLength > 0)) opt.stepLength = 0.5 * mesh.meanEdgeLength();
     opt.leaveStartFaceStraight = true;
     opt.bothDirections = false;
     opt.stopAtSingularFaces = true;

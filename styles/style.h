@@ -5,11 +5,38 @@
 /// parameters (stroke widths, spacing, taper) join this struct later.
 
 #include <array>
+#include <cstdint>
 
 namespace rosy::styles {
 
 /// Linear-light RGB, each channel in [0, 1] (not sRGB-encoded).
 using Rgb = std::array<double, 3>;
+
+/// How hatches turn tone into ink. Densities are ink coverage in [0, 1]
+/// (0 = white paper, 1 = solid ink); lengths are pixels of the render resolution.
+struct HatchStyle {
+    double strokeWidthPx = 1.2;     ///< nominal hatch line width
+    double minSpacingPx = 3.5;      ///< densest allowed spacing between parallel hatches
+    double maxSpacingPx = 24.0;     ///< sparsest spacing (lightest hatched tone)
+    double highlightDensity = 0.06; ///< below this target density: no hatching (paper shows)
+    double crossDensity = 0.45;     ///< above this: the second family (cross-hatching) is added
+    double toneGamma = 1.0;         ///< target density = (1 − tone)^gamma
+    double taper = 0.25;            ///< fraction of a stroke's length over which its ends thin out
+    double pressureVariation = 0.2; ///< relative width variation along a stroke (smooth noise)
+    double jitterPx = 0.0;          ///< positional wobble amplitude
+    double angleOffsetDeg = 0.0;    ///< rotates hatch directions on screen
+    double spacingJitter = 0.0;     ///< relative random variation of seed spacing
+    double minLengthPx = 8.0;       ///< shorter strokes are dropped
+};
+
+/// Outline strokes.
+struct ContourStyle {
+    double widthPx = 1.8;          ///< silhouette width
+    double creaseWidthPx = 1.2;    ///< crease and border width
+    double creaseAngleDeg = 140.0; ///< edges whose dihedral angle is below this are creases (Blender Line Art's default)
+    bool borders = true;           ///< draw mesh borders (open boundaries)
+    bool hidden = false;           ///< also emit hidden contours (HiddenContour strokes)
+};
 
 struct Style {
     /// Colour of the background and of fully lit surfaces (linear RGB).
@@ -20,6 +47,10 @@ struct Style {
     /// Tone floor of the Lambert preview in [0, 1]: surfaces no light reaches get
     /// this tone, so shadowed sides keep their shape instead of turning solid ink.
     double ambient = 0.15;
+    HatchStyle hatch;
+    ContourStyle contour;
+    double paperGrain = 0.0; ///< amplitude of paper texture in [0, 1] (0 = flat paper)
+    uint32_t seed = 1;       ///< base seed of every random choice (with stable ids)
 };
 
 /// Linear-light colour of tone t (0 = ink, 1 = paper); t is clamped to [0, 1].
