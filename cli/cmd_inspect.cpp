@@ -1,0 +1,1 @@
+// placeholder: rosyhatch inspect (issue 6)
