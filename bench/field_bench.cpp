@@ -73,6 +73,21 @@ static void BM_DesignRelaxation4Rosy(benchmark::State &state) {
 }
 BENCHMARK(BM_DesignRelaxation4Rosy)->Unit(benchmark::kMillisecond);
 
+static void BM_DesignRelaxationCotan4Rosy(benchmark::State &state) {
+    Bunny &b = bunny();
+    std::vector<DesignElement> elements(3);
+    elements[0].position = b.mesh.position(100);
+    elements[1].position = b.mesh.position(20000);
+    elements[1].order = 1;
+    elements[2].position = b.mesh.position(30000);
+    elements[2].order = -1;
+    DesignOptions options;
+    options.weights = LaplaceWeights::Cotan;
+    rosy::WarningCapture quiet;
+    for (auto _ : state) benchmark::DoNotOptimize(designField(*b.frames, 4, elements, options));
+}
+BENCHMARK(BM_DesignRelaxationCotan4Rosy)->Unit(benchmark::kMillisecond);
+
 static void BM_Singularities(benchmark::State &state) {
     Bunny &b = bunny();
     for (auto _ : state) benchmark::DoNotOptimize(findSingularities(*b.frames, b.field));

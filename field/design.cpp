@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "field/smoothing.h"
 
+#include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
 #include <cmath>
@@ -167,13 +168,13 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
                 } else if (i == j) {
                     trip.emplace_back(freeId[i], freeId[i], (1.0 + g) * it.value());
                     if (g > 0) rhs[freeId[i]] += g * it.value().real() * options.guide->u[i];
-                } else if (freeId[j] < freeId[i]) {
+                } else {
                     trip.emplace_back(freeId[i], freeId[j], it.value());
                 }
             }
         SparseMatrixC K(nFree, nFree);
         K.setFromTriplets(trip.begin(), trip.end());
-        const Eigen::VectorXcd x = HermitianSolver(K).solve(rhs);
+        const Eigen::VectorXcd x = solveHermitianSystem(frames, nSym, freeId, K, rhs);
         for (int v = 0; v < nV; ++v)
             if (freeId[v] >= 0) result[v] = x[freeId[v]];
         return result;

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 
+#include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
 #include <cmath>
@@ -130,7 +131,7 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
             const int i = int(it.row()), j = int(it.col());
             if (freeId[i] < 0) continue;
             if (freeId[j] >= 0) {
-                if (freeId[j] <= freeId[i]) trip.emplace_back(freeId[i], freeId[j], it.value());
+                trip.emplace_back(freeId[i], freeId[j], it.value());
             } else {
                 rhs[freeId[i]] -= it.value() * out.u[j];
             }
@@ -139,7 +140,11 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
         if (freeId[v] >= 0) trip.emplace_back(freeId[v], freeId[v], Complex(s * m[v], 0));
     SparseMatrixC K(nFree, nFree);
     K.setFromTriplets(trip.begin(), trip.end());
-    const Eigen::VectorXcd x = HermitianSolver(K).solve(rhs);
+    // The guide restricted to the free vertices is a good start for CG.
+    Eigen::VectorXcd guess(nFree);
+    for (int v = 0; v < n; ++v)
+        if (freeId[v] >= 0) guess[freeId[v]] = guide.u[v];
+    const Eigen::VectorXcd x = solveHermitianSystem(frames, guide.nSym, freeId, K, rhs, guess);
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) out.u[v] = x[freeId[v]];
     return out;

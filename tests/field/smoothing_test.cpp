@@ -5,6 +5,10 @@
 #include "field/primitives.h"
 #include "field/singularities.h"
 #include "field/smoothing.h"
+#include "field/multilevel.h"
+#include "field/sparse_solver.h"
+
+#include <tbb/global_control.h>
 
 #include "core/diagnostics.h"
 #include "core/error.h"
@@ -150,4 +154,29 @@ TEST(PoincareHopf, HoldsOnShippedMeshesAndPrimitives) {
             }
         }
     }
+}
+
+TEST(TwoLevelPcg, MatchesDirectSolveAndIsThreadIndependent) {
+    Mesh m = makeTorus(2.0, 0.7, 60, 30);
+    TangentFrames fr(m);
+    const int n = m.nVertices();
+    SparseMatrixC K = connectionLaplacian(fr, 4);
+    const Eigen::VectorXd area = vertexAreas(m);
+    for (int i = 0; i < n; ++i) K.coeffRef(i, i) += 50.0 * area[i];
+    Eigen::VectorXcd b = Eigen::VectorXcd::Random(n);
+    std::vector<int> freeId(n);
+    for (int i = 0; i < n; ++i) freeId[i] = i;
+    const Eigen::VectorXcd direct = HermitianSolver(K).solve(b);
+    PcgReport rep;
+    Eigen::VectorXcd x2;
+    {
+        tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+        x2 = solveTwoLevelPcg(fr, 4, freeId, K, b, {}, 1e-10, 1000, &rep);
+    }
+    EXPECT_LT((x2 - direct).norm() / direct.norm(), 1e-8);
+    EXPECT_LT(rep.iterations, 200);
+    EXPECT_LT(rep.coarseSize, n / 4);
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const Eigen::VectorXcd x1 = solveTwoLevelPcg(fr, 4, freeId, K, b, {}, 1e-10, 1000);
+    for (int i = 0; i < n; ++i) ASSERT_EQ(x1[i], x2[i]) << i;
 }
