@@ -71,13 +71,16 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
             double len = t.norm();
             return len > 0 ? Vec3(t / len) : Vec3::Zero();
         };
-        std::vector<Vec3> dirs(d + 1);
+        // Scratch space reused per thread: no heap traffic in the parallel loop.
+        thread_local std::vector<Vec3> dirs;
+        thread_local std::vector<double> psi;
+        dirs.resize(d + 1);
+        psi.assign(d + 1, 0.0);
         for (int k = 0; k < d; ++k) dirs[k] = projected(mesh.vector(begin[k]));
         // The closing direction: the first edge again inside, the last boundary edge outside.
         dirs[d] = boundary ? projected(mesh.position(mesh.tail(Mesh::prev(begin[d - 1]))) -
                                        mesh.position(v))
                            : dirs[0];
-        std::vector<double> psi(d + 1, 0.0);
         for (int k = 0; k < d; ++k) {
             double beta = 0;
             if (dirs[k].squaredNorm() > 0 && dirs[k + 1].squaredNorm() > 0)

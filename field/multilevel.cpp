@@ -157,7 +157,7 @@ Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, con
                                       const SparseMatrixC &K, const Eigen::VectorXcd &b,
                                       const Eigen::VectorXcd &guess) {
     try {
-        return solveTwoLevelPcg(frames, nSym, freeId, K, b, guess, 1e-7, 1000);
+        return solveTwoLevelPcg(frames, nSym, freeId, K, b, guess, 1e-6, 1000);
     } catch (const std::runtime_error &) {
         // A factorization always works for positive definite K; it is only slower.
         return HermitianSolver(K).solve(b);
