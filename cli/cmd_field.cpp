@@ -12,15 +12,19 @@
 #include "field/field_io.h"
 #include "field/mesh_io.h"
 #include "field/mesh_stats.h"
+#include "field/separatrices.h"
 #include "field/singularities.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -35,8 +39,17 @@ struct FieldOptions {
     std::string weights = "meanvalue";
     std::vector<std::string> elements;
     std::string globalSmoothing; ///< "ITER[:STRENGTH]"
+    std::vector<std::string> cancels, moves, cancelNears; ///< "I,J", "I:x,y,z", "x,y,z:x,y,z"
+    /// The edit flags in the order they were given on the command line.
+    std::vector<std::pair<std::string, std::string>> editOrder;
+    bool separatrices = false;
     std::string jsonPath, plyPath;
     CommonOptions common;
+    /// Options a scene's field block provides too: the flag wins only when given.
+    std::vector<std::string> explicitFlags;
+    bool given(const std::string &flag) const {
+        return std::find(explicitFlags.begin(), explicitFlags.end(), flag) != explicitFlags.end();
+    }
 };
 
 bool endsWith(const std::string &s, const std::string &suffix) {
@@ -71,26 +84,144 @@ field::DesignElement parseElement(const std::string &text, int k) {
     return el;
 }
 
+std::vector<double> parseNumbers(const std::string &text, const FileLoc &loc, const std::string &shape) {
+    std::vector<double> v;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            size_t used = 0;
+            v.push_back(std::stod(item, &used));
+            if (used != item.size() || !std::isfinite(v.back())) throw std::invalid_argument(item);
+        } catch (const std::exception &) {
+            throw InputError(loc, "'" + item + "' is not a number", "write " + shape);
+        }
+    }
+    return v;
+}
+
+field::Vec3 parsePoint(const std::string &text, const FileLoc &loc, const std::string &shape) {
+    std::vector<double> v = parseNumbers(text, loc, shape);
+    if (v.size() != 3) throw InputError(loc, "'" + text + "' is not a point x,y,z", "write " + shape);
+    return {v[0], v[1], v[2]};
+}
+
+int parseId(const std::string &text, const FileLoc &loc, const std::string &shape) {
+    try {
+        size_t used = 0;
+        long long id = std::stoll(text, &used);
+        if (used == text.size() && id >= 0 && id < (1 << 30)) return int(id);
+    } catch (const std::exception &) {
+    }
+    throw InputError(loc, "'" + text + "' is not a singularity id (a whole number >= 0)", "write " + shape);
+}
+
+// One edit flag, e.g. ("--cancel", "3,7") as the k-th edit flag on the command line.
+scenes::FieldEditDesc parseEdit(const std::string &flag, const std::string &text, int k) {
+    scenes::FieldEditDesc e;
+    e.loc = FileLoc{flag + " #" + std::to_string(k + 1)};
+    if (flag == "--cancel") {
+        const std::string shape = "--cancel I,J (two ids from the singularity list)";
+        const size_t comma = text.find(',');
+        if (comma == std::string::npos) throw InputError(e.loc, "'" + text + "' is not two ids", "write " + shape);
+        e.op = scenes::FieldEditDesc::Op::Cancel;
+        e.a = parseId(text.substr(0, comma), e.loc, shape);
+        e.b = parseId(text.substr(comma + 1), e.loc, shape);
+    } else if (flag == "--move") {
+        const std::string shape = "--move I:x,y,z";
+        const size_t colon = text.find(':');
+        if (colon == std::string::npos) throw InputError(e.loc, "'" + text + "' has no ':'", "write " + shape);
+        e.op = scenes::FieldEditDesc::Op::Move;
+        e.a = parseId(text.substr(0, colon), e.loc, shape);
+        e.p = parsePoint(text.substr(colon + 1), e.loc, shape);
+    } else {
+        const std::string shape = "--cancel-near x,y,z:x,y,z";
+        const size_t colon = text.find(':');
+        if (colon == std::string::npos) throw InputError(e.loc, "'" + text + "' has no ':'", "write " + shape);
+        e.op = scenes::FieldEditDesc::Op::CancelNear;
+        e.p = parsePoint(text.substr(0, colon), e.loc, shape);
+        e.q = parsePoint(text.substr(colon + 1), e.loc, shape);
+    }
+    return e;
+}
+
+void writeSingularityList(JsonWriter &json, const std::vector<field::Singularity> &list) {
+    json.beginArray();
+    for (size_t i = 0; i < list.size(); ++i) {
+        const field::Singularity &s = list[i];
+        json.beginObject().field("id", int(i)).field("face", s.face);
+        json.key("position").beginArray().value(s.position.x()).value(s.position.y()).value(s.position.z()).endArray();
+        json.field("index", s.index()).field("index_numerator", s.indexNumerator).endObject();
+    }
+    json.endArray();
+}
+
+void writeEditsJson(JsonWriter &json, const std::vector<scenes::AppliedEdit> &edits) {
+    json.key("edits").beginArray();
+    for (const scenes::AppliedEdit &e : edits) {
+        json.beginObject();
+        const bool move = e.edit.op == scenes::FieldEditDesc::Op::Move;
+        json.field("op", move ? "move" : "cancel");
+        json.key("args").beginObject();
+        if (move) {
+            json.field("singularity", e.a);
+            json.key("to").beginArray().value(e.edit.p.x()).value(e.edit.p.y()).value(e.edit.p.z()).endArray();
+        } else {
+            json.key("singularities").beginArray().value(e.a).value(e.b).endArray();
+            if (e.edit.op == scenes::FieldEditDesc::Op::CancelNear) {
+                json.key("near").beginArray();
+                for (const field::Vec3 &p : {e.edit.p, e.edit.q})
+                    json.beginArray().value(p.x()).value(p.y()).value(p.z()).endArray();
+                json.endArray();
+            }
+        }
+        json.endObject();
+        json.field("region_faces", int(e.result.regionFaces.size()));
+        json.field("free_vertices", e.result.freeVertices).field("rounds", e.result.rounds);
+        json.key("singularities_before");
+        writeSingularityList(json, e.before);
+        json.key("singularities_after");
+        writeSingularityList(json, e.after);
+        json.endObject();
+    }
+    json.endArray();
+}
+
 void runField(const FieldOptions &opt) {
     using Clock = std::chrono::steady_clock;
     std::optional<tbb::global_control> threadLimit;
     if (opt.common.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
-    field::checkSymmetry(opt.symmetry, "--symmetry");
-    field::FieldSpec spec;
-    spec.nSym = opt.symmetry;
-    if (opt.source == "curvature") spec.source = field::FieldSource::Curvature;
+    const bool isScene = endsWith(opt.input, ".yaml") || endsWith(opt.input, ".yml");
+    std::optional<scenes::SceneDesc> scene;
+    if (isScene) scene = scenes::parseSceneFile(opt.input);
+    const bool fromScene = scene && scene->field.given;
+    // A scene's field block is the base; each flag given explicitly overrides its part.
+    field::FieldSpec spec = fromScene ? scene->field.spec : field::FieldSpec{};
+    if (!fromScene || opt.given("--symmetry")) {
+        field::checkSymmetry(opt.symmetry, "--symmetry");
+        spec.nSym = opt.symmetry;
+    }
+    if (fromScene && !opt.given("--source")) {
+        // keep the scene's source
+    } else if (opt.source == "curvature") spec.source = field::FieldSource::Curvature;
     else if (opt.source == "smoothest") spec.source = field::FieldSource::Smoothest;
     else if (opt.source == "design") spec.source = field::FieldSource::Design;
     else throw InputError(FileLoc{"--source"}, "unknown field source '" + opt.source + "'",
                           "use curvature, smoothest or design");
     if (!(opt.smoothingLength >= 0) || opt.smoothingLength > 10)
         throw InputError(FileLoc{"--smoothing-length"}, "must be in [0, 10]");
-    spec.smoothingLength = opt.smoothingLength;
+    if (!fromScene || opt.given("--smoothing-length")) spec.smoothingLength = opt.smoothingLength;
     if (opt.weights == "meanvalue") spec.weights = field::LaplaceWeights::MeanValue;
     else if (opt.weights == "cotan") spec.weights = field::LaplaceWeights::Cotan;
     else throw InputError(FileLoc{"--weights"}, "unknown weights '" + opt.weights + "'", "use meanvalue or cotan");
+    if (!opt.elements.empty()) spec.elements.clear();
     for (size_t k = 0; k < opt.elements.size(); ++k) spec.elements.push_back(parseElement(opt.elements[k], int(k)));
+    // Edit flags replace the scene's edits: the scene's ids were chosen for its own field.
+    std::vector<scenes::FieldEditDesc> edits;
+    if (fromScene && opt.editOrder.empty()) edits = scene->field.edits;
+    for (size_t k = 0; k < opt.editOrder.size(); ++k)
+        edits.push_back(parseEdit(opt.editOrder[k].first, opt.editOrder[k].second, int(k)));
     if (!opt.globalSmoothing.empty()) {
         int iters = 0;
         double strength = 0.5;
@@ -114,8 +245,8 @@ void runField(const FieldOptions &opt) {
         t0 = t;
     };
     field::Mesh mesh;
-    if (endsWith(opt.input, ".yaml") || endsWith(opt.input, ".yml"))
-        mesh = scenes::buildScene(scenes::parseSceneFile(opt.input)).mesh;
+    if (scene)
+        mesh = scenes::buildScene(*scene).mesh;
     else
         mesh = field::loadMesh(opt.input);
     lap("load");
@@ -125,8 +256,18 @@ void runField(const FieldOptions &opt) {
     field::FieldResult result = field::buildField(frames, spec);
     for (const auto &[stage, t] : result.timingsMs) ms.emplace_back(stage, t);
     t0 = Clock::now();
+    std::vector<scenes::AppliedEdit> applied;
+    if (!edits.empty()) {
+        applied = scenes::applyFieldEdits(frames, result.field, edits);
+        lap("edits");
+    }
     const field::SingularityReport report = field::findSingularities(frames, result.field);
     lap("singularities");
+    std::vector<field::Separatrix> separatrices;
+    if (opt.separatrices) {
+        separatrices = field::traceSeparatrices(frames, result.field, report.singularities);
+        lap("separatrices");
+    }
     ms.emplace_back("total", std::chrono::duration<double, std::milli>(Clock::now() - tStart).count());
 
     int nPos = 0, nNeg = 0;
@@ -142,6 +283,16 @@ void runField(const FieldOptions &opt) {
                     report.singularities.size(), nPos, nNeg, double(report.indexNumeratorSum) / spec.nSym,
                     stats.boundaryLoops ? (" + boundary " + std::to_string(report.boundaryIndex)).c_str() : "",
                     holds ? "(Poincare-Hopf holds)" : "(MISMATCH: please report)");
+        for (const scenes::AppliedEdit &e : applied) {
+            if (e.edit.op == scenes::FieldEditDesc::Op::Move)
+                std::printf("edit: moved singularity %d into face %d", e.a, e.result.targetFace);
+            else
+                std::printf("edit: cancelled singularities %d and %d", e.a, e.b);
+            std::printf(" (region %zu faces, %d vertices relaxed, %d solve(s)); %zu -> %zu singularities\n",
+                        e.result.regionFaces.size(), e.result.freeVertices, e.result.rounds, e.before.size(),
+                        e.after.size());
+        }
+        if (opt.separatrices) std::printf("separatrices: %zu\n", separatrices.size());
         std::printf("timings:");
         for (const auto &[stage, t] : ms) std::printf(" %s %.1f ms", stage.c_str(), t);
         std::printf("\n");
@@ -153,6 +304,8 @@ void runField(const FieldOptions &opt) {
         field::writeAnalysisJson(json, stats, report, spec.nSym);
         json.key("field").beginObject().field("symmetry", spec.nSym).field("source", field::toString(spec.source));
         json.field("smoothing_length", spec.smoothingLength).endObject();
+        writeEditsJson(json, applied);
+        if (opt.separatrices) field::writeSeparatricesJson(json, separatrices);
         json.key("timings_ms").beginObject();
         for (const auto &[stage, t] : ms) json.field(stage, t);
         json.endObject().endObject();
@@ -183,10 +336,37 @@ void addFieldCommand(CLI::App &app, Action &action) {
                     "Design element L,x,y,z[,phase_deg] (L = -1 or 1) or 0,x,y,z,dx,dy,dz; repeatable");
     sub->add_option("--global-smoothing", opt->globalSmoothing,
                     "The paper's global smoothing afterwards: ITERATIONS[:STRENGTH]");
+    const std::vector<std::string> editFlags{"--cancel", "--move", "--cancel-near"};
+    sub->add_option("--cancel", opt->cancels,
+                    "Cancel singularities I,J (ids from the report, +1/N with -1/N); repeatable, "
+                    "edits run in command-line order and ids are re-numbered after each")
+        ->allow_extra_args(false);
+    sub->add_option("--move", opt->moves, "Move singularity I to the surface point x,y,z: I:x,y,z; repeatable")
+        ->allow_extra_args(false);
+    sub->add_option("--cancel-near", opt->cancelNears,
+                    "Cancel the opposite-sign pair nearest to two points: x,y,z:x,y,z; repeatable")
+        ->allow_extra_args(false);
+    sub->add_flag("--separatrices", opt->separatrices, "Trace separatrices and add them to the JSON report");
     sub->add_option("--json", opt->jsonPath, "Write the JSON report here");
     sub->add_option("--export", opt->plyPath, "Write the field as PLY with per-vertex member directions");
     addCommonOptions(*sub, opt->common);
-    sub->callback([opt, &action] { action = [opt] { runField(*opt); }; });
+    sub->callback([opt, sub, editFlags, &action] {
+        // The edit flags are separate options, so their relative order comes from
+        // the parse order: the k-th occurrence of a flag takes its k-th value.
+        std::map<std::string, size_t> used;
+        for (const CLI::Option *o : sub->parse_order()) {
+            const std::string flag = "--" + o->get_single_name();
+            if (std::find(editFlags.begin(), editFlags.end(), flag) == editFlags.end()) continue;
+            const std::vector<std::string> &values = flag == "--cancel" ? opt->cancels
+                                                     : flag == "--move" ? opt->moves
+                                                                        : opt->cancelNears;
+            size_t &k = used[flag];
+            if (k < values.size()) opt->editOrder.emplace_back(flag, values[k++]);
+        }
+        for (const char *flag : {"--symmetry", "--source", "--smoothing-length"})
+            if (sub->get_option(flag)->count() > 0) opt->explicitFlags.push_back(flag);
+        action = [opt] { runField(*opt); };
+    });
 }
 
 } // namespace rosy::cli

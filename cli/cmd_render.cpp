@@ -11,6 +11,15 @@
 #include "renderer/image.h"
 #include "renderer/shading.h"
 #include "scenes/scene.h"
+#include "core/diagnostics.h"
+#include "core/json.h"
+#include "field/field_builder.h"
+#include "field/singularities.h"
+#include "renderer/illustration.h"
+
+#include <cctype>
+#include <chrono>
+#include <fstream>
 
 #include <tbb/global_control.h>
 
@@ -23,12 +32,28 @@ namespace rosy::cli {
 namespace {
 
 struct RenderOptions {
+    std::string reportPath; ///< --report: stroke-list statistics as JSON
     std::string scenePath;
     std::string outputPath; ///< -o; overrides the scene's output
     CommonOptions common;
 };
 
+bool isExrPath(const std::string &path) {
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    for (char &ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return ext == ".exr";
+}
+
+void writeText(const std::string &path, const std::string &text) {
+    writeAtomically(path, [&](const std::string &tmp) {
+        std::ofstream os(tmp, std::ios::binary);
+        os << text;
+        if (!os.flush()) throw IoError(path, "write failed (disk full?)");
+    });
+}
+
 void runRender(const RenderOptions &opt) {
+    const auto start = std::chrono::steady_clock::now();
     std::optional<tbb::global_control> threadLimit;
     if (opt.common.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
@@ -46,29 +71,72 @@ void runRender(const RenderOptions &opt) {
     // Fail on an unwritable destination before spending time on the render.
     checkWritable(output);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
+    if (!opt.reportPath.empty()) checkWritable(opt.reportPath);
 
     scenes::Scene scene = timings.time("load", [&] { return scenes::buildScene(desc); });
-    auto rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
-    renderer::GBuffer gbuffer =
-        timings.time("gbuffer", [&] { return renderer::renderGBuffer(*rayScene, scene.mesh, scene.camera); });
-    renderer::Image image = timings.time("shade", [&] {
-        std::vector<double> tone = renderer::shadeLambert(gbuffer, *rayScene, scene.mesh, scene.camera,
-                                                          scene.lights, scene.shading);
-        return renderer::toneImage(tone, gbuffer.width, gbuffer.height, scene.style);
+    const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });
+    field::FieldResult fieldResult = timings.time("field", [&] {
+        field::FieldResult r = field::buildField(frames, desc.field.spec);
+        scenes::applyFieldEdits(frames, r.field, desc.field.edits);
+        return r;
     });
-    timings.time("write", [&] { renderer::writeImage(image, output); });
-    if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath);
-    std::cout << output << "\n";
+    const field::SingularityReport singularities =
+        timings.time("singularities", [&] { return field::findSingularities(frames, fieldResult.field); });
+    auto rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
+
+    renderer::IllustrationInput input;
+    input.mesh = &scene.mesh;
+    input.frames = &frames;
+    input.field = &fieldResult.field;
+    input.scene = rayScene.get();
+    input.camera = &scene.camera;
+    input.lights = scene.lights;
+    input.shading = scene.shading;
+    input.style = scene.style;
+    const renderer::Illustration il = renderer::renderIllustration(input);
+    for (const auto &[stage, ms] : il.timingsMs) timings.add(stage, ms);
+
+    timings.time("write", [&] {
+        if (isExrPath(output))
+            renderer::writeImage(renderer::illustrationExr(il), output,
+                                 renderer::inkExrWriteOptions(renderer::nominalHatchSpacingPx(scene.style.hatch)));
+        else
+            renderer::writeImage(il.composite, output);
+    });
+    const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!opt.reportPath.empty()) {
+        JsonWriter json;
+        json.beginObject();
+        json.field("scene", opt.scenePath).field("output", output);
+        json.field("width", il.gbuffer.width).field("height", il.gbuffer.height);
+        json.field("strokes", int(il.strokes.strokes.size()));
+        json.field("hatch_strokes", il.hatch.strokes);
+        json.field("contour_strokes", int(il.strokes.strokes.size()) - il.hatch.strokes);
+        json.field("ink_length_px", il.hatch.inkLengthPx);
+        json.field("min_spacing_violations", il.hatch.minSpacingViolations);
+        json.field("strokes_near_singularities", il.hatch.strokesNearSingularities);
+        json.field("singularities", int(singularities.singularities.size()));
+        json.field("symmetry", fieldResult.field.nSym);
+        json.key("warnings").beginObject();
+        for (const auto &[kind, count] : warningCounts()) json.field(kind, count);
+        json.endObject();
+        json.endObject();
+        writeText(opt.reportPath, json.str());
+    }
+    if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath, totalMs);
+    if (!opt.common.quiet) std::cout << output << "\n";
 }
 
 } // namespace
 
 void addRenderCommand(CLI::App &app, Action &action) {
     auto opt = std::make_shared<RenderOptions>();
-    CLI::App *sub = app.add_subcommand("render", "render the Lambert preview of a scene to an image");
+    CLI::App *sub = app.add_subcommand("render", "render a scene as a pen-and-ink illustration (PNG/TIFF/JPEG, or EXR with channels)");
     sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md)")->required();
     sub->add_option("-o,--output", opt->outputPath,
                     "output image (.png .exr .tif .tiff .jpg .jpeg); overrides the scene's output");
+    sub->add_option("--report", opt->reportPath,
+                    "write stroke statistics (strokes, ink length, spacing violations, strokes near singularities) as JSON");
     addCommonOptions(*sub, opt->common);
     sub->callback([opt, &action] { action = [opt] { runRender(*opt); }; });
 }

@@ -23,6 +23,9 @@ void addRenderCommand(CLI::App &app, Action &action);
 /// Adds `rosyhatch field SCENE_OR_MESH` (field report, singularities, export).
 void addFieldCommand(CLI::App &app, Action &action);
 
+/// Adds `rosyhatch inspect RENDER.exr [--json OUT]` (quality measures of a rendering).
+void addInspectCommand(CLI::App &app, Action &action);
+
 /// Options every working subcommand shares.
 struct CommonOptions {
     int threads = 0;         ///< 0 = all cores
@@ -51,8 +54,12 @@ public:
         } record{this, stage, start};
         return work();
     }
-    /// Writes {"stages": {name: seconds, ...}, "total": seconds} atomically to `path`.
-    void write(const std::string &path) const;
+    /// Records a stage measured elsewhere (milliseconds).
+    void add(const std::string &stage, double ms) { m_stages.emplace_back(stage, ms / 1000.0); }
+    /// Writes {"stage": milliseconds, ..., "total": milliseconds} atomically to
+    /// `path`, stages in the order they ran; total is the whole command's wall time
+    /// when given (> 0), else the sum of the stages.
+    void write(const std::string &path, double totalMs = 0) const;
 
 private:
     std::vector<std::pair<std::string, double>> m_stages;

@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json.h"
 
 #include <cstdio>
 #include <fstream>
@@ -15,23 +16,21 @@ void addCommonOptions(CLI::App &sub, CommonOptions &options) {
     sub.add_option("--timings", options.timingsPath, "write per-stage wall-clock seconds as JSON to FILE");
 }
 
-void Timings::write(const std::string &path) const {
+void Timings::write(const std::string &path, double totalMs) const {
+    JsonWriter json;
+    json.beginObject();
+    double sum = 0.0;
+    for (const auto &[stage, seconds] : m_stages) {
+        json.field(stage, seconds * 1000.0);
+        sum += seconds * 1000.0;
+    }
+    json.field("total", totalMs > 0 ? totalMs : sum);
+    json.endObject();
+    const std::string text = json.str();
     writeAtomically(path, [&](const std::string &tmp) {
         std::ofstream out(tmp);
-        if (!out) throw IoError(path, "cannot open the timings file for writing");
-        double total = 0.0;
-        out << "{\n  \"stages\": {";
-        for (size_t i = 0; i < m_stages.size(); ++i) {
-            char buf[64];
-            std::snprintf(buf, sizeof buf, "%.6f", m_stages[i].second);
-            out << (i ? ",\n" : "\n") << "    \"" << m_stages[i].first << "\": " << buf;
-            total += m_stages[i].second;
-        }
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%.6f", total);
-        out << "\n  },\n  \"total\": " << buf << "\n}\n";
-        out.close();
-        if (!out) throw IoError(path, "error while writing the timings file");
+        out << text;
+        if (!out.flush()) throw IoError(path, "error while writing the timings file");
     });
 }
 

@@ -21,6 +21,7 @@ int main(int argc, char **argv) {
     // One line per subcommand.
     rosy::cli::addRenderCommand(app, action);
     rosy::cli::addFieldCommand(app, action);
+    rosy::cli::addInspectCommand(app, action);
 
     try {
         app.parse(argc, argv);

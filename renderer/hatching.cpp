@@ -1,1 +1,583 @@
-// placeholder
+#include "renderer/hatching.h"
+
+#include "core/error.h"
+#include "core/parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <utility>
+
+namespace rosy::renderer {
+
+namespace {
+
+constexpr double kCos45 = 0.70710678118654752;
+/// The tracer treats lines within 50° as the same family, a margin over the 45° the
+/// measurement uses, so tangents estimated differently (samples vs chords) near the
+/// 45° border cannot turn an accepted crossing into a counted violation.
+constexpr double kCos50 = 0.64278760968653933;
+constexpr double kCos30 = 0.86602540378443865;
+/// d_test / d_sep (Jobard & Lefer 1997; keithfma and anvaka use the same ratio).
+constexpr double kTestRatio = 0.5;
+/// Integration step as a fraction of d_sep, and its bounds in px: the upper bound
+/// keeps steps short enough that the one-pixel silhouette guard band cannot be jumped.
+constexpr double kStepRatio = 0.2;
+constexpr double kMinStepPx = 0.5;
+constexpr double kMaxStepPx = 2.0;
+/// Depth discontinuity: relative depth change over one pixel, alone or with a normal
+/// change of more than 60° (a different sheet of surface close behind).
+constexpr double kDepthJump = 0.03;
+constexpr double kDepthJumpWithNormal = 0.01;
+constexpr double kNormalJumpCos = 0.5;
+/// Tapered ends keep this fraction of the width, so a stroke does not end in nothing.
+constexpr double kTaperFloor = 0.2;
+
+float clampDensity(float d) { return d == d ? std::clamp(d, 0.f, 1.f) : 0.f; }
+
+/// splitmix64: a tiny, well-mixed hash for per-stroke random numbers.
+uint64_t mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+/// Uniform in [0, 1) from (seed, id, k).
+double random01(uint32_t seed, uint32_t id, uint32_t k) {
+    const uint64_t h = mix(mix((uint64_t(seed) << 32) | id) ^ k);
+    return double(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+Vec2 rotate(const Vec2 &v, double c, double s) { return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y()); }
+
+double pointSegmentDistance(const Vec2 &p, const Vec2 &a, const Vec2 &b) {
+    const Vec2 ab = b - a;
+    const double l2 = ab.squaredNorm();
+    double t = l2 > 0 ? (p - a).dot(ab) / l2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    return (p - (a + t * ab)).norm();
+}
+
+/// An accepted streamline sample, as Jobard–Lefer's distance grid stores it.
+struct Sample {
+    Vec2 p;
+    Vec2 t;     // unit tangent
+    double arc; // arc length along its stroke from the seed (negative backwards)
+    int stroke;
+    int family;
+};
+
+/// Uniform grid over the image holding sample indices. Samples are only appended
+/// or removed from the back, so each cell's list stays in insertion order and a
+/// rejected stroke is undone by popping its samples in reverse.
+class SampleGrid {
+public:
+    SampleGrid(int width, int height, double cellPx)
+        : m_cell(cellPx), m_nx(std::max(1, int(std::ceil(width / cellPx)))),
+          m_ny(std::max(1, int(std::ceil(height / cellPx)))), m_cells(size_t(m_nx) * size_t(m_ny)) {}
+
+    void add(const Sample &s) {
+        m_cells[cellOf(s.p)].push_back(int(m_samples.size()));
+        m_samples.push_back(s);
+    }
+    void popBack() {
+        m_cells[cellOf(m_samples.back().p)].pop_back();
+        m_samples.pop_back();
+    }
+    const std::vector<Sample> &samples() const { return m_samples; }
+
+    /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
+    template <typename F> bool any(const Vec2 &p, double r, F &&f) const {
+        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        for (int cy = y0; cy <= y1; ++cy)
+            for (int cx = x0; cx <= x1; ++cx)
+                for (int i : m_cells[size_t(cy) * size_t(m_nx) + size_t(cx)])
+                    if (f(m_samples[size_t(i)])) return true;
+        return false;
+    }
+
+private:
+    size_t cellOf(const Vec2 &p) const {
+        const int cx = std::clamp(int(std::floor(p.x() / m_cell)), 0, m_nx - 1);
+        const int cy = std::clamp(int(std::floor(p.y() / m_cell)), 0, m_ny - 1);
+        return size_t(cy) * size_t(m_nx) + size_t(cx);
+    }
+    double m_cell;
+    int m_nx, m_ny;
+    std::vector<std::vector<int>> m_cells;
+    std::vector<Sample> m_samples;
+};
+
+struct Disc {
+    Vec2 centre;
+    double radius;
+};
+
+/// Keep-away discs of the visible singularities: radius d_sep at the singularity's
+/// own tone. `shrink` < 1 gives the measuring tolerance.
+std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<float> &density,
+                                   const styles::HatchStyle &style, double shrink) {
+    std::vector<Disc> discs;
+    for (const ScreenSingularity &s : field.singularities) {
+        if (!s.visible) continue;
+        const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
+        const int y = std::clamp(int(std::floor(s.pRaster.y())), 0, field.height - 1);
+        const double d = clampDensity(density[size_t(field.index(x, y))]);
+        discs.push_back({s.pRaster, shrink * localSpacingPx(d, style)});
+    }
+    return discs;
+}
+
+/// The sequential Jobard–Lefer tracer for one image.
+class Hatcher {
+public:
+    Hatcher(const ScreenField &field, const std::vector<float> &density, const GBuffer &gbuffer,
+            const styles::HatchStyle &style, uint32_t seed)
+        : m_field(field), m_density(density), m_style(style), m_seed(seed),
+          m_grid(field.width, field.height, std::max(2.0, style.minSpacingPx)) {
+        const double a = -style.angleOffsetDeg * M_PI / 180.0; // counter-clockwise on screen (y down)
+        m_offCos = std::cos(a);
+        m_offSin = std::sin(a);
+        m_rotated = style.angleOffsetDeg != 0.0;
+        buildBlocked(gbuffer);
+        m_discs = singularityDiscs(field, density, style, 1.0);
+        // Pixels a disc may reach, so the exact test runs only near singularities.
+        m_nearDisc.assign(field.nPixels(), 0);
+        for (const Disc &d : m_discs) {
+            const int x0 = std::max(0, int(std::floor(d.centre.x() - d.radius)) - 1);
+            const int x1 = std::min(field.width - 1, int(std::floor(d.centre.x() + d.radius)) + 1);
+            const int y0 = std::max(0, int(std::floor(d.centre.y() - d.radius)) - 1);
+            const int y1 = std::min(field.height - 1, int(std::floor(d.centre.y() + d.radius)) + 1);
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) m_nearDisc[size_t(field.index(x, y))] = 1;
+        }
+    }
+
+    void traceFamily(int family) {
+        m_family = family;
+        // Scan seeds fill what propagation from accepted lines leaves empty; the scan
+        // is row-major so the result is deterministic.
+        const double stride = std::max(1.0, m_style.minSpacingPx);
+        for (double y = 0.5 * stride; y < m_field.height; y += stride)
+            for (double x = 0.5 * stride; x < m_field.width; x += stride) {
+                const Vec2 q(x, y);
+                if (!eligible(q)) continue;
+                Vec2 heading;
+                if (!scanHeading(q, heading)) continue;
+                if (trySeed(q, heading)) propagate();
+            }
+    }
+
+    std::vector<Stroke> takeStrokes() { return std::move(m_strokes); }
+
+private:
+    int pixelIndex(const Vec2 &p) const {
+        const int x = int(std::floor(p.x())), y = int(std::floor(p.y()));
+        if (x < 0 || y < 0 || x >= m_field.width || y >= m_field.height) return -1;
+        return m_field.index(x, y);
+    }
+    double densityAt(int i) const { return clampDensity(m_density[size_t(i)]); }
+    double spacingAt(int i) const { return localSpacingPx(densityAt(i), m_style); }
+
+    bool inDisc(const Vec2 &q) const {
+        const int i = pixelIndex(q);
+        if (i < 0 || !m_nearDisc[size_t(i)]) return false;
+        for (const Disc &d : m_discs)
+            if ((q - d.centre).squaredNorm() < d.radius * d.radius) return true;
+        return false;
+    }
+
+    /// A point a stroke of the current family may occupy.
+    bool eligible(const Vec2 &q) const {
+        const int i = pixelIndex(q);
+        if (i < 0 || m_blocked[size_t(i)]) return false;
+        if (hatchFamilies(densityAt(i), m_style) <= m_family) return false;
+        return !inDisc(q);
+    }
+
+    bool direction(const Vec2 &p, const Vec2 &heading, Vec2 &dir) const {
+        if (!m_rotated) return m_field.lineNear(p, heading, dir);
+        Vec2 d;
+        if (!m_field.lineNear(p, rotate(heading, m_offCos, -m_offSin), d)) return false;
+        dir = rotate(d, m_offCos, m_offSin);
+        return true;
+    }
+
+    /// Would a point q heading along t come within r of a line of "the same family"?
+    /// Same family = tangent within 45° (mod π); where only one family is wanted,
+    /// every family-0 sample counts for family 0, so mid-tones never cross.
+    bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
+        const double r2 = r * r, selfSkip = 2.0 * r;
+        return m_grid.any(q, r, [&](const Sample &s) {
+            if ((s.p - q).squaredNorm() >= r2) return false;
+            if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
+            if (std::abs(s.t.dot(t)) >= kCos50) return true;
+            return singleTone && m_family == 0 && s.family == 0;
+        });
+    }
+
+    bool singleTone(int i) const { return hatchFamilies(densityAt(i), m_style) < 2; }
+
+    /// Heading for a seed with no parent line: continue the look of nearby lines
+    /// (family 1 crosses family 0), else the field's labelled direction.
+    bool scanHeading(const Vec2 &q, Vec2 &heading) const {
+        const int i = pixelIndex(q);
+        const double dSep = spacingAt(i);
+        // A same-family line within d_sep would reject any seed here: skip the wider search.
+        const double rNear = 0.98 * dSep;
+        if (m_grid.any(q, rNear, [&](const Sample &s) {
+                return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
+            }))
+            return false;
+        const double r = 2.0 * dSep;
+        const Sample *best[2] = {nullptr, nullptr};
+        double bestD[2] = {r * r, r * r};
+        m_grid.any(q, r, [&](const Sample &s) {
+            const double d2 = (s.p - q).squaredNorm();
+            const int k = s.family == m_family ? 0 : 1;
+            if (d2 < bestD[k]) {
+                bestD[k] = d2;
+                best[k] = &s;
+            }
+            return false;
+        });
+        const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)], &d1 = m_field.dir1[size_t(i)];
+        Vec2 label = Vec2(m_family == 0 ? d0.x() : d1.x(), m_family == 0 ? d0.y() : d1.y());
+        if (m_rotated) label = rotate(label, m_offCos, m_offSin);
+        if (best[0]) {
+            heading = best[0]->t;
+        } else if (best[1]) {
+            // Perpendicular (on screen) to the other family's line; direction() then
+            // snaps to whichever field direction is closer to that.
+            heading = Vec2(-best[1]->t.y(), best[1]->t.x());
+        } else {
+            heading = label;
+        }
+        Vec2 dir;
+        if (!direction(q, heading, dir)) return false;
+        heading = dir;
+        return true;
+    }
+
+    bool trySeed(const Vec2 &q, const Vec2 &heading) {
+        if (!eligible(q)) return false;
+        Vec2 dir;
+        if (!direction(q, heading, dir)) return false;
+        const int i = pixelIndex(q);
+        // Slightly under d_sep: a seed placed at exactly d_sep from its parent must not
+        // be rejected by its own parent through rounding.
+        if (tooClose(q, dir, 0.98 * spacingAt(i), -1, 0, singleTone(i))) return false;
+        return traceStroke(q, dir);
+    }
+
+    /// Jobard–Lefer propagation: seeds at ±d_sep beside each accepted line, lines in
+    /// creation order (FIFO), until no candidate is left.
+    void propagate() {
+        while (m_next < m_strokes.size()) {
+            const size_t parent = m_next++;
+            const std::vector<Vec2> pts = m_strokes[parent].points; // copy: m_strokes grows
+            const std::vector<Vec2> tans = m_tangents[parent];
+            for (size_t k = 0; k < pts.size(); ++k) {
+                const Vec2 nrm(-tans[k].y(), tans[k].x());
+                const int ip = pixelIndex(pts[k]);
+                if (ip < 0) continue;
+                for (int side = -1; side <= 1; side += 2) {
+                    double dist = spacingAt(ip);
+                    if (m_style.spacingJitter != 0.0)
+                        dist *= 1.0 + m_style.spacingJitter *
+                                          (random01(m_seed, uint32_t(parent), uint32_t(2 * k + (side > 0))) - 0.5);
+                    Vec2 q = pts[k] + side * dist * nrm;
+                    // Toward lighter tone the seed's own d_sep is larger; place it there.
+                    const int iq = pixelIndex(q);
+                    if (iq >= 0 && m_style.spacingJitter == 0.0) {
+                        const double dq = spacingAt(iq);
+                        if (dq > dist) q = pts[k] + side * dq * nrm;
+                    }
+                    trySeed(q, tans[k]);
+                }
+            }
+        }
+    }
+
+    /// Integrates from p along heading h (RK2 midpoint on the line field), appending
+    /// samples with arc lengths sign * (distance from the seed).
+    void extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
+        const int maxSteps = int(4.0 * (m_field.width + m_field.height) / kMinStepPx);
+        double arc = 0;
+        for (int it = 0; it < maxSteps; ++it) {
+            const int ip = pixelIndex(p);
+            if (ip < 0) break;
+            const double step = std::clamp(kStepRatio * spacingAt(ip), kMinStepPx, kMaxStepPx);
+            Vec2 v1, v2;
+            if (!direction(p, h, v1) || v1.dot(h) < kCos30) break;
+            const Vec2 pm = p + 0.5 * step * v1;
+            const int im = pixelIndex(pm);
+            if (im < 0 || m_blocked[size_t(im)]) break;
+            if (!direction(pm, v1, v2) || v2.dot(h) < kCos30) break; // sharp turn: near a singularity
+            const Vec2 q = p + step * v2;
+            if (!eligible(q)) break;
+            const int iq = pixelIndex(q);
+            const double r = kTestRatio * spacingAt(iq);
+            if (tooClose(q, v2, r, stroke, sign * (arc + step), singleTone(iq))) break;
+            arc += step;
+            Sample s{q, v2, sign * arc, stroke, m_family};
+            m_grid.add(s);
+            out.push_back(s);
+            p = q;
+            h = v2;
+        }
+    }
+
+    bool traceStroke(const Vec2 &seed, const Vec2 &dir) {
+        const int id = int(m_strokes.size());
+        const size_t before = m_grid.samples().size();
+        Sample s0{seed, dir, 0.0, id, m_family};
+        m_grid.add(s0);
+        std::vector<Sample> fwd, bwd;
+        extend(seed, dir, 1.0, id, fwd);
+        extend(seed, -dir, -1.0, id, bwd);
+        const double length = (fwd.empty() ? 0.0 : fwd.back().arc) - (bwd.empty() ? 0.0 : bwd.back().arc);
+        if (length < std::max(m_style.minLengthPx, 1e-9) || fwd.size() + bwd.size() < 1) {
+            while (m_grid.samples().size() > before) m_grid.popBack();
+            return false;
+        }
+        Stroke stroke;
+        stroke.kind = StrokeKind::Hatch;
+        stroke.family = m_family;
+        stroke.id = uint32_t(id);
+        std::vector<Vec2> tangents;
+        stroke.points.reserve(fwd.size() + bwd.size() + 1);
+        for (auto it = bwd.rbegin(); it != bwd.rend(); ++it) {
+            stroke.points.push_back(it->p);
+            tangents.push_back(-it->t); // backward samples carry the reversed heading
+        }
+        stroke.points.push_back(seed);
+        tangents.push_back(dir);
+        for (const Sample &s : fwd) {
+            stroke.points.push_back(s.p);
+            tangents.push_back(s.t);
+        }
+        m_strokes.push_back(std::move(stroke));
+        m_tangents.push_back(std::move(tangents));
+        return true;
+    }
+
+    void buildBlocked(const GBuffer &g) {
+        const int w = m_field.width, h = m_field.height;
+        std::vector<uint8_t> edge(size_t(w) * size_t(h), 0);
+        for (size_t i = 0; i < edge.size(); ++i) edge[i] = (g.faceId[i] < 0 || !m_field.valid[i]) ? 1 : 0;
+        auto jump = [&](size_t a, size_t b) {
+            if (g.faceId[a] < 0 || g.faceId[b] < 0) return false;
+            const double da = g.depth[a], db = g.depth[b];
+            const double rel = std::abs(da - db) / std::max(1e-12, std::min(std::abs(da), std::abs(db)));
+            return rel > kDepthJump || (rel > kDepthJumpWithNormal && g.normal[a].dot(g.normal[b]) < kNormalJumpCos);
+        };
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t i = size_t(y) * size_t(w) + size_t(x);
+                if (x + 1 < w && jump(i, i + 1)) edge[i] = edge[i + 1] = 1;
+                if (y + 1 < h && jump(i, i + size_t(w))) edge[i] = edge[i + size_t(w)] = 1;
+            }
+        // One pixel of guard band (8-neighbourhood) keeps stroke centres a pixel away
+        // from the background, so a stroke's width stays on the object.
+        m_blocked.assign(edge.size(), 0);
+        parallelFor(0, h, [&](int64_t y) {
+            for (int x = 0; x < w; ++x) {
+                uint8_t b = 0;
+                for (int dy = -1; dy <= 1 && !b; ++dy)
+                    for (int dx = -1; dx <= 1 && !b; ++dx) {
+                        const int xx = x + dx, yy = int(y) + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) b = 1;
+                        else b = edge[size_t(yy) * size_t(w) + size_t(xx)];
+                    }
+                m_blocked[size_t(y) * size_t(w) + size_t(x)] = b;
+            }
+        }, 8);
+    }
+
+    const ScreenField &m_field;
+    const std::vector<float> &m_density;
+    const styles::HatchStyle &m_style;
+    uint32_t m_seed;
+    SampleGrid m_grid;
+    std::vector<uint8_t> m_blocked;
+    std::vector<Disc> m_discs;
+    std::vector<uint8_t> m_nearDisc;
+    double m_offCos = 1, m_offSin = 0;
+    bool m_rotated = false;
+    int m_family = 0;
+    std::vector<Stroke> m_strokes;
+    std::vector<std::vector<Vec2>> m_tangents;
+    size_t m_next = 0;
+};
+
+/// Width profile and optional wobble of one stroke; randomness from (seed, id) only.
+void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed) {
+    const size_t n = stroke.points.size();
+    std::vector<double> arc(n, 0.0);
+    for (size_t k = 1; k < n; ++k) arc[k] = arc[k - 1] + (stroke.points[k] - stroke.points[k - 1]).norm();
+    const double length = arc.back();
+    const double taperLen = std::max(0.0, style.taper) * length;
+    const double ph[4] = {2 * M_PI * random01(seed, stroke.id, 0), 2 * M_PI * random01(seed, stroke.id, 1),
+                          2 * M_PI * random01(seed, stroke.id, 2), 2 * M_PI * random01(seed, stroke.id, 3)};
+    // Two incommensurate sines: smooth, never periodic over a stroke, bounded by 1.
+    auto noise = [&](double s, double l1, double l2, double a, double b) {
+        return 0.6 * std::sin(2 * M_PI * s / l1 + a) + 0.4 * std::sin(2 * M_PI * s / l2 + b);
+    };
+    stroke.widths.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        double profile = 1.0;
+        if (taperLen > 0) {
+            const double e = std::clamp(std::min(arc[k], length - arc[k]) / taperLen, 0.0, 1.0);
+            profile = kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e);
+        }
+        const double pressure = 1.0 + style.pressureVariation * noise(arc[k], 61.0, 23.0, ph[0], ph[1]);
+        stroke.widths[k] = float(std::max(0.0, style.strokeWidthPx * profile * pressure));
+    }
+    if (style.jitterPx != 0.0 && n >= 2) {
+        std::vector<Vec2> moved(n);
+        for (size_t k = 0; k < n; ++k) {
+            const Vec2 t = stroke.points[std::min(k + 1, n - 1)] - stroke.points[k > 0 ? k - 1 : 0];
+            const double tl = t.norm();
+            const Vec2 nrm = tl > 0 ? Vec2(-t.y() / tl, t.x() / tl) : Vec2::Zero();
+            moved[k] = stroke.points[k] + style.jitterPx * noise(arc[k], 41.0, 15.0, ph[2], ph[3]) * nrm;
+        }
+        stroke.points = std::move(moved);
+    }
+}
+
+} // namespace
+
+int hatchFamilies(double density, const styles::HatchStyle &style) {
+    if (!(density >= style.highlightDensity) || !(density > 0)) return 0;
+    return density >= style.crossDensity ? 2 : 1;
+}
+
+double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &style) {
+    const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
+    if (!(density > 0)) return hi;
+    const double rho = std::min(density, 1.0);
+    // One family covers w/s; two crossing families cover 1 − (1 − w/s)².
+    const double perFamily = nFamilies >= 2 ? 1.0 - std::sqrt(1.0 - rho) : rho;
+    if (!(perFamily > 0)) return hi;
+    return std::clamp(style.strokeWidthPx / perFamily, lo, hi);
+}
+
+double localSpacingPx(double density, const styles::HatchStyle &style) {
+    return hatchSpacingPx(density, std::max(1, hatchFamilies(density, style)), style);
+}
+
+StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
+                        const GBuffer &gbuffer, const styles::HatchStyle &style, uint32_t seed,
+                        HatchReport *report) {
+    ROSY_CHECK_EQ(field.width, gbuffer.width);
+    ROSY_CHECK_EQ(field.height, gbuffer.height);
+    ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
+    ROSY_CHECK(style.strokeWidthPx > 0 && style.minSpacingPx > 0);
+    StrokeList out;
+    out.width = field.width;
+    out.height = field.height;
+    if (field.nPixels() > 0) {
+        Hatcher hatcher(field, targetDensity, gbuffer, style, seed);
+        hatcher.traceFamily(0);
+        hatcher.traceFamily(1);
+        out.strokes = hatcher.takeStrokes();
+        // Each stroke's finish depends only on itself and (seed, id): safe in parallel.
+        parallelFor(0, int64_t(out.strokes.size()),
+                    [&](int64_t k) { finishStroke(out.strokes[size_t(k)], style, seed); }, 64);
+    }
+    if (report) *report = measureHatches(out, field, targetDensity, style);
+    return out;
+}
+
+HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
+                           const std::vector<float> &targetDensity,
+                           const styles::HatchStyle &style, double tolerance) {
+    ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
+    HatchReport r;
+    std::vector<int> hatch;
+    for (size_t k = 0; k < list.strokes.size(); ++k) {
+        const Stroke &s = list.strokes[k];
+        if (s.kind != StrokeKind::Hatch || s.points.size() < 2) continue;
+        hatch.push_back(int(k));
+        ++r.strokes;
+        (s.family == 1 ? r.strokesFamily1 : r.strokesFamily0)++;
+        for (size_t i = 1; i < s.points.size(); ++i) r.inkLengthPx += (s.points[i] - s.points[i - 1]).norm();
+    }
+    if (hatch.empty() || field.nPixels() == 0) return r;
+
+    auto dTestAt = [&](const Vec2 &p) {
+        const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
+        const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
+        return kTestRatio * localSpacingPx(clampDensity(targetDensity[size_t(field.index(x, y))]), style);
+    };
+
+    // Segment grid, independent of the tracer's sample grid: every segment is entered
+    // in each cell its bounding box touches.
+    const double cell = std::max(2.0, style.minSpacingPx);
+    const int nx = std::max(1, int(std::ceil(field.width / cell))), ny = std::max(1, int(std::ceil(field.height / cell)));
+    std::vector<std::vector<std::pair<int, int>>> cells(size_t(nx) * size_t(ny)); // (stroke, segment)
+    auto cellRange = [&](double lo, double hi, int n) {
+        return std::make_pair(std::clamp(int(std::floor(lo / cell)), 0, n - 1), std::clamp(int(std::floor(hi / cell)), 0, n - 1));
+    };
+    for (int k : hatch) {
+        const auto &pts = list.strokes[size_t(k)].points;
+        for (size_t i = 0; i + 1 < pts.size(); ++i) {
+            auto [x0, x1] = cellRange(std::min(pts[i].x(), pts[i + 1].x()), std::max(pts[i].x(), pts[i + 1].x()), nx);
+            auto [y0, y1] = cellRange(std::min(pts[i].y(), pts[i + 1].y()), std::max(pts[i].y(), pts[i + 1].y()), ny);
+            for (int cy = y0; cy <= y1; ++cy)
+                for (int cx = x0; cx <= x1; ++cx) cells[size_t(cy) * size_t(nx) + size_t(cx)].push_back({k, int(i)});
+        }
+    }
+
+    // Per stroke: the partners it violates spacing with, and whether it enters a disc.
+    const std::vector<Disc> discs = singularityDiscs(field, targetDensity, style, 1.0 - tolerance);
+    std::vector<std::vector<int>> partners(hatch.size());
+    std::vector<uint8_t> nearSing(hatch.size(), 0);
+    parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
+        const int k = hatch[size_t(h)];
+        const Stroke &a = list.strokes[size_t(k)];
+        const auto &pts = a.points;
+        std::vector<int> &mine = partners[size_t(h)];
+        for (size_t i = 0; i < pts.size(); ++i) {
+            const Vec2 ta = (pts[std::min(i + 1, pts.size() - 1)] - pts[i > 0 ? i - 1 : 0]).normalized();
+            const double rA = dTestAt(pts[i]);
+            auto [x0, x1] = cellRange(pts[i].x() - rA, pts[i].x() + rA, nx);
+            auto [y0, y1] = cellRange(pts[i].y() - rA, pts[i].y() + rA, ny);
+            for (int cy = y0; cy <= y1; ++cy)
+                for (int cx = x0; cx <= x1; ++cx)
+                    for (const auto &[kb, j] : cells[size_t(cy) * size_t(nx) + size_t(cx)]) {
+                        if (kb == k) continue;
+                        const Stroke &b = list.strokes[size_t(kb)];
+                        if (b.family != a.family) continue;
+                        const Vec2 &b0 = b.points[size_t(j)], &b1 = b.points[size_t(j) + 1];
+                        const Vec2 tb = (b1 - b0).normalized();
+                        if (std::abs(ta.dot(tb)) < kCos45) continue;
+                        const double dist = pointSegmentDistance(pts[i], b0, b1);
+                        // Closer than d_test wherever it is evaluated (tone may differ
+                        // between the two points), less the polyline chord tolerance.
+                        const double r = (1.0 - tolerance) * std::min(rA, dTestAt(0.5 * (b0 + b1)));
+                        if (dist < r) mine.push_back(kb);
+                    }
+        }
+        for (const Disc &d : discs)
+            for (size_t i = 0; i + 1 < pts.size() && !nearSing[size_t(h)]; ++i)
+                if (pointSegmentDistance(d.centre, pts[i], pts[i + 1]) < d.radius) nearSing[size_t(h)] = 1;
+    }, 16);
+
+    std::vector<std::pair<int, int>> pairs;
+    for (size_t h = 0; h < hatch.size(); ++h) {
+        const int k = hatch[h];
+        for (int kb : partners[h]) pairs.emplace_back(std::min(k, kb), std::max(k, kb));
+        r.strokesNearSingularities += nearSing[h];
+    }
+    std::sort(pairs.begin(), pairs.end());
+    r.minSpacingViolations = int(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
+    return r;
+}
+
+} // namespace rosy::renderer

@@ -80,7 +80,15 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
     ROSY_CHECK_EQ(image.data.size(),
                   size_t(image.width) * size_t(image.height) * size_t(image.nChannels));
     Format format = formatOf(path);
-    bool eightBit = format != Format::Exr;
+    bool eightBit = format != Format::Exr; // integer-coded, sRGB (8 or 16 bits)
+    if (options.bitsPerChannel != 8 && options.bitsPerChannel != 16)
+        throw InputError(FileLoc{path},
+                         "cannot write " + std::to_string(options.bitsPerChannel) + " bits per channel",
+                         "use 8 or 16");
+    if (format == Format::Jpeg && options.bitsPerChannel != 8)
+        throw InputError(FileLoc{path}, "JPEG holds only 8 bits per channel",
+                         "write .png or .tif for 16 bits");
+    bool sixteenBit = eightBit && options.bitsPerChannel == 16;
     if (image.width < 1 || image.height < 1)
         throw InputError(FileLoc{path}, "cannot write an empty image (" +
                                             std::to_string(image.width) + "x" +
@@ -104,9 +112,10 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
     if (image.nChannels < 1) throw InputError(FileLoc{path}, "cannot write an image without channels");
 
     int alpha = alphaIndex(image);
-    OIIO::ImageSpec spec(image.width, image.height, image.nChannels,
-                         eightBit ? OIIO::TypeDesc::UINT8
-                                  : (options.exrHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT));
+    OIIO::TypeDesc fileType = sixteenBit ? OIIO::TypeDesc::UINT16
+                              : eightBit ? OIIO::TypeDesc::UINT8
+                              : (options.exrHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec spec(image.width, image.height, image.nChannels, fileType);
     spec.channelnames = image.channelNames;
     spec.alpha_channel = alpha;
     // Our alpha is straight (not premultiplied): tell the writers not to divide by it.
@@ -118,17 +127,25 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
         spec.attribute("oiio:ColorSpace", "Linear");
         spec.attribute("compression", "zip");
     }
+    for (const auto &[name, value] : options.floatAttributes) spec.attribute(name, value);
 
     // Encode once, outside the writer: exact rounding of our own sRGB curve rather
     // than whatever conversion the format plugin would apply.
     std::vector<uint8_t> bytes;
+    std::vector<uint16_t> words;
     if (eightBit) {
-        bytes.resize(image.data.size());
+        if (sixteenBit)
+            words.resize(image.data.size());
+        else
+            bytes.resize(image.data.size());
         for (size_t i = 0; i < image.data.size(); ++i) {
             int c = int(i % size_t(image.nChannels));
             double v = image.data[i];
             double e = c == alpha ? (v == v ? std::clamp(v, 0.0, 1.0) : 0.0) : linearToSrgb(v);
-            bytes[i] = uint8_t(std::lround(e * 255.0));
+            if (sixteenBit)
+                words[i] = uint16_t(std::lround(e * 65535.0));
+            else
+                bytes[i] = uint8_t(std::lround(e * 255.0));
         }
     }
     // NaN and infinities cannot be displayed; EXR would store them verbatim, which
@@ -144,8 +161,9 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
         auto out = OIIO::ImageOutput::create(oiioFormatName(format));
         if (!out) throw IoError(path, "OpenImageIO has no writer: " + OIIO::geterror());
         if (!out->open(tmpPath, spec)) throw IoError(path, out->geterror());
-        bool ok = eightBit ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
-                           : out->write_image(OIIO::TypeDesc::FLOAT, floats.data());
+        bool ok = sixteenBit ? out->write_image(OIIO::TypeDesc::UINT16, words.data())
+                  : eightBit ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
+                             : out->write_image(OIIO::TypeDesc::FLOAT, floats.data());
         if (!ok) {
             std::string message = out->geterror();
             out->close();

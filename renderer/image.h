@@ -4,6 +4,7 @@
 /// inside image.cpp.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rosy::renderer {
@@ -35,6 +36,12 @@ private:
 struct ImageWriteOptions {
     /// EXR only: store half floats instead of 32-bit floats.
     bool exrHalf = false;
+    /// PNG and TIFF: 8 or 16 bits per channel (sRGB-encoded either way). JPEG
+    /// accepts only 8; EXR ignores it.
+    int bitsPerChannel = 8;
+    /// Extra float attributes for the file header (name, value), e.g.
+    /// "rosy:hatch_spacing_px". OpenEXR keeps them; other formats may drop them.
+    std::vector<std::pair<std::string, float>> floatAttributes;
 };
 
 /// The file extensions writeImage() accepts, for messages: ".png .exr .tif .tiff .jpg .jpeg".
@@ -44,7 +51,8 @@ const char *supportedImageExtensions();
 bool isSupportedImagePath(const std::string &path);
 
 /// Writes `image` to `path`, format chosen by the (case-insensitive) extension:
-///  - .png, .tif/.tiff, .jpg/.jpeg: 8 bits per channel, colour channels converted
+///  - .png, .tif/.tiff, .jpg/.jpeg: 8 bits per channel (PNG and TIFF: 16 on request,
+///    see ImageWriteOptions::bitsPerChannel), colour channels converted
 ///    from linear light with the sRGB transfer curve (values clamped to [0, 1], NaN -> 0),
 ///    alpha kept linear; PNG/TIFF take 1-4 channels, JPEG 1 or 3 and at most 65500
 ///    pixels per side;
@@ -52,8 +60,8 @@ bool isSupportedImagePath(const std::string &path);
 /// The file appears atomically (temporary file + rename, see core/atomic_file.h): on
 /// failure no temporary file is left and an existing file at `path` is untouched.
 /// No time stamps or host names are written, so equal images give equal files.
-/// \throws InputError naming `path` for an unsupported extension or a channel count
-///   or size the format cannot hold.
+/// \throws InputError naming `path` for an unsupported extension, a channel count
+///   or size the format cannot hold, or a bit depth other than 8 and 16 (16 for JPEG).
 /// \throws IoError with OpenImageIO's message if the file cannot be written.
 void writeImage(const Image &image, const std::string &path, const ImageWriteOptions &options = {});
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 namespace rosy::scenes {
 namespace fs = std::filesystem;
@@ -385,7 +386,157 @@ styles::Rgb colour(const Parser &p, const YAML::Node &node, const std::string &w
     return {c.x(), c.y(), c.z()};
 }
 
+field::DesignElement parseElement(const Parser &p, const YAML::Node &node, const std::string &ctx) {
+    field::DesignElement el;
+    bool hasPosition = false;
+    std::optional<FileLoc> phaseLoc, directionLoc;
+    for (const auto &[key, value] :
+         p.entries(node, ctx, {"position", "order", "direction", "phase", "strength"})) {
+        const std::string &k = key.Scalar();
+        if (k == "position") {
+            el.position = p.vec3(value, ctx + ".position");
+            hasPosition = true;
+        } else if (k == "order") {
+            el.order = p.integer(value, ctx + ".order", -1, 1);
+        } else if (k == "direction") {
+            el.direction = p.vec3(value, ctx + ".direction");
+            if (el.direction.norm() == 0.0) p.fail(value, ctx + ".direction must not be [0, 0, 0]");
+            directionLoc = p.loc(value);
+        } else if (k == "phase") {
+            el.phaseRad = p.number(value, ctx + ".phase (degrees)", -3600.0, 3600.0) * M_PI / 180.0;
+            phaseLoc = p.loc(value);
+        } else if (k == "strength") {
+            el.strength = p.number(value, ctx + ".strength", 1e-9, 1e9);
+        }
+    }
+    if (!hasPosition) p.fail(node, ctx + " needs a position", "e.g. position: [0, 1, 0]");
+    // An ignored key would silently do nothing: say so instead.
+    if (el.order == 0 && phaseLoc)
+        throw InputError(*phaseLoc, ctx + ".phase only applies to singular elements (order -1 or 1)",
+               "use direction for order 0");
+    if (el.order != 0 && directionLoc)
+        throw InputError(*directionLoc, ctx + ".direction only applies to order 0", "use phase (degrees) for order -1 or 1");
+    el.label = p.loc(node).str();
+    return el;
+}
+
+void parseEdits(const Parser &p, const YAML::Node &node, std::vector<FieldEditDesc> &edits) {
+    const std::string shape = "each edit is {cancel: [i, j]}, {move: {singularity: i, to: [x, y, z]}} "
+                              "or {cancel_near: [[x, y, z], [x, y, z]]}";
+    if (!node.IsSequence()) p.fail(node, "field.edits must be a list, got " + Parser::kindOf(node), shape);
+    for (size_t i = 0; i < node.size(); ++i) {
+        const YAML::Node en = node[i];
+        const std::string ctx = "field.edits[" + std::to_string(i) + "]";
+        const auto entries = p.entries(en, ctx, {"cancel", "move", "cancel_near"});
+        if (entries.size() != 1) p.fail(en, ctx + " must hold exactly one operation", shape);
+        const auto &[key, value] = entries.front();
+        FieldEditDesc e;
+        e.loc = p.loc(en);
+        const std::string &k = key.Scalar();
+        if (k == "cancel") {
+            if (!value.IsSequence() || value.size() != 2)
+                p.fail(value, ctx + ".cancel must be a list of two singularity ids, got " + Parser::kindOf(value),
+                       "e.g. cancel: [3, 7]");
+            e.op = FieldEditDesc::Op::Cancel;
+            e.a = p.integer(value[0], ctx + ".cancel[0]", 0, 1 << 30);
+            e.b = p.integer(value[1], ctx + ".cancel[1]", 0, 1 << 30);
+        } else if (k == "move") {
+            e.op = FieldEditDesc::Op::Move;
+            bool hasId = false, hasTo = false;
+            for (const auto &[mk, mv] : p.entries(value, ctx + ".move", {"singularity", "to"})) {
+                if (mk.Scalar() == "singularity") {
+                    e.a = p.integer(mv, ctx + ".move.singularity", 0, 1 << 30);
+                    hasId = true;
+                } else {
+                    e.p = p.vec3(mv, ctx + ".move.to");
+                    hasTo = true;
+                }
+            }
+            if (!hasId || !hasTo)
+                p.fail(value, ctx + ".move needs both singularity and to", "e.g. move: {singularity: 2, to: [0, 1, 0]}");
+        } else {
+            if (!value.IsSequence() || value.size() != 2)
+                p.fail(value, ctx + ".cancel_near must be a list of two points, got " + Parser::kindOf(value),
+                       "e.g. cancel_near: [[0, 1, 0], [0.1, 1, 0]]");
+            e.op = FieldEditDesc::Op::CancelNear;
+            e.p = p.vec3(value[0], ctx + ".cancel_near[0]");
+            e.q = p.vec3(value[1], ctx + ".cancel_near[1]");
+        }
+        edits.push_back(e);
+    }
+}
+
+void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
+    fd.given = true;
+    fd.loc = p.loc(node);
+    YAML::Node sourceNode;
+    for (const auto &[key, value] :
+         p.entries(node, "field", {"symmetry", "source", "smoothing_length", "elements", "edits"})) {
+        const std::string &k = key.Scalar();
+        if (k == "symmetry") {
+            fd.spec.nSym = p.integer(value, "field.symmetry", 1, field::kMaxSymmetry);
+            fd.symmetryLoc = p.loc(value);
+        } else if (k == "source") {
+            const std::string s = p.text(value, "field.source");
+            if (s == "curvature") fd.spec.source = field::FieldSource::Curvature;
+            else if (s == "smoothest") fd.spec.source = field::FieldSource::Smoothest;
+            else if (s == "design") fd.spec.source = field::FieldSource::Design;
+            else p.fail(value, "unknown field source '" + s + "'", suggest(s, {"curvature", "smoothest", "design"}));
+            fd.sourceLoc = p.loc(value);
+            sourceNode = value;
+        } else if (k == "smoothing_length") {
+            fd.spec.smoothingLength = p.number(value, "field.smoothing_length", 0.0, 10.0);
+            fd.smoothingLengthLoc = p.loc(value);
+        } else if (k == "elements") {
+            if (!value.IsSequence())
+                p.fail(value, "field.elements must be a list of maps, got " + Parser::kindOf(value),
+                       "e.g. elements: [{position: [0, 1, 0], order: 1}]");
+            for (size_t i = 0; i < value.size(); ++i)
+                fd.spec.elements.push_back(parseElement(p, value[i], "field.elements[" + std::to_string(i) + "]"));
+        } else if (k == "edits") {
+            parseEdits(p, value, fd.edits);
+        }
+    }
+    if (fd.spec.source == field::FieldSource::Design && fd.spec.elements.empty())
+        p.fail(sourceNode, "a designed field needs at least one element", "add field.elements");
+}
+
 } // namespace
+
+const char *toString(FieldEditDesc::Op op) {
+    switch (op) {
+    case FieldEditDesc::Op::Cancel: return "cancel";
+    case FieldEditDesc::Op::Move: return "move";
+    case FieldEditDesc::Op::CancelNear: return "cancel_near";
+    }
+    return "?";
+}
+
+std::vector<AppliedEdit> applyFieldEdits(const field::TangentFrames &frames, field::RosyField &rosyField,
+                                         const std::vector<FieldEditDesc> &edits) {
+    std::vector<AppliedEdit> applied;
+    std::vector<field::Singularity> current = field::findSingularities(frames, rosyField).singularities;
+    for (const FieldEditDesc &e : edits) {
+        AppliedEdit rec;
+        rec.edit = e;
+        rec.before = current;
+        field::EditOptions options;
+        options.where = e.loc;
+        rec.a = e.a;
+        rec.b = e.b;
+        if (e.op == FieldEditDesc::Op::Move) {
+            rec.result = field::moveSingularity(frames, rosyField, e.a, e.p, options);
+        } else {
+            if (e.op == FieldEditDesc::Op::CancelNear)
+                std::tie(rec.a, rec.b) = field::nearestOppositePair(current, e.p, e.q, e.loc);
+            rec.result = field::cancelPair(frames, rosyField, rec.a, rec.b, options);
+        }
+        current = field::findSingularities(frames, rosyField).singularities;
+        rec.after = current;
+        applied.push_back(std::move(rec));
+    }
+    return applied;
+}
 
 std::vector<std::string> primitiveNames() {
     std::vector<std::string> names;
@@ -406,7 +557,7 @@ SceneDesc parseScene(const std::string &text, const std::string &path) {
     desc.path = path;
     if (!root || root.IsNull())
         throw InputError(FileLoc{path, 1, 1}, "the scene file is empty", "it needs at least a mesh: key");
-    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "style"});
+    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "style", "field"});
     bool hasMesh = false;
     for (const auto &[key, value] : entries) {
         const std::string &k = key.Scalar();
@@ -424,6 +575,8 @@ SceneDesc parseScene(const std::string &text, const std::string &path) {
                 p.fail(value, "output '" + out + "' has an unsupported extension",
                        std::string("use one of ") + renderer::supportedImageExtensions());
             desc.output = {out, p.loc(value)};
+        } else if (k == "field") {
+            parseField(p, value, desc.field);
         } else if (k == "shadows") {
             desc.shadows = {p.boolean(value, "shadows"), p.loc(value)};
         } else if (k == "style") {

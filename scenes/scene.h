@@ -5,6 +5,8 @@
 /// scenes/README.md. Only this module sees yaml-cpp.
 
 #include "core/error.h"
+#include "field/editing.h"
+#include "field/field_builder.h"
 #include "field/mesh.h"
 #include "renderer/camera.h"
 #include "renderer/shading.h"
@@ -59,6 +61,53 @@ struct LightDesc {
     FileLoc loc;
 };
 
+/// One topological edit of the field (P&Z Sec. 5.2), applied in file order.
+/// Singularity ids refer to the list as it is just before this edit (ids are
+/// re-numbered after every edit, sorted by face id).
+struct FieldEditDesc {
+    enum class Op {
+        Cancel,     ///< cancel singularities `a` and `b`
+        Move,       ///< move singularity `a` to point `p`
+        CancelNear, ///< cancel the opposite-sign pair nearest to points `p` and `q`
+    };
+    Op op = Op::Cancel;
+    int a = -1, b = -1;
+    Vec3 p = Vec3::Zero(), q = Vec3::Zero(); ///< world units
+    /// Where it was asked for: the scene entry or the CLI flag ("--cancel #1").
+    FileLoc loc;
+};
+
+/// "cancel", "move" or "cancel_near".
+const char *toString(FieldEditDesc::Op op);
+
+/// The scene's `field:` block: how to build the N-RoSy field and how to edit it.
+struct FieldDesc {
+    /// Whether the scene had a `field` key (otherwise `spec` holds the defaults).
+    bool given = false;
+    field::FieldSpec spec;
+    /// Locations of the keys the file set (line 0: a default), so callers can tell
+    /// a value the file chose from a default.
+    FileLoc symmetryLoc, sourceLoc, smoothingLengthLoc;
+    std::vector<FieldEditDesc> edits;
+    FileLoc loc;
+};
+
+/// One applied edit, for reports.
+struct AppliedEdit {
+    FieldEditDesc edit;
+    int a = -1, b = -1;                     ///< the ids actually used (CancelNear resolves them)
+    field::EditResult result;
+    std::vector<field::Singularity> before; ///< singularities just before the edit
+    std::vector<field::Singularity> after;  ///< and just after
+};
+
+/// Applies `edits` in order to `rosyField` (on the mesh of `frames`), re-finding the
+/// singularities between edits. Shared by `rosyhatch field` and the renderer.
+/// \throws InputError at the edit's location (bad id, impossible edit); edits
+///   before the failing one stay applied, the failing one changes nothing.
+std::vector<AppliedEdit> applyFieldEdits(const field::TangentFrames &frames, field::RosyField &rosyField,
+                                         const std::vector<FieldEditDesc> &edits);
+
 struct SceneDesc {
     /// The scene file as given (used in every message).
     std::string path;
@@ -74,6 +123,8 @@ struct SceneDesc {
     /// Output image path (relative to the working directory, as given); default:
     /// the scene file's stem + ".png".
     Located<std::string> output;
+    /// The `field:` block (defaults when absent).
+    FieldDesc field;
 };
 
 /// Reads and validates a scene file.

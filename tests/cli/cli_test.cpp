@@ -169,3 +169,37 @@ TEST(FieldCli, BadParametersExitTwo) {
     CliRun outDir = run("field '" + mesh + "' --json /nonexistent-dir/x.json", "field-outdir");
     EXPECT_EQ(outDir.exitCode, 3) << outDir.err;
 }
+
+TEST(FieldCli, SceneEditsAndEditFlagsReachTheReport) {
+    const std::string block = "mesh: {primitive: disk}\n"
+                              "field:\n"
+                              "  source: design\n"
+                              "  elements:\n"
+                              "    - {position: [-0.3, 0.05, 0], order: 1}\n"
+                              "    - {position: [0.3, -0.05, 0], order: -1}\n";
+    fs::path scene = writeScene("edit.yaml", block + "  edits: [{cancel: [0, 1]}]\n");
+    fs::remove(workDir() / "edit.json");
+    CliRun r = run("field '" + scene.string() + "' --json edit.json --separatrices", "field-edit");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::string json = slurp(workDir() / "edit.json");
+    for (const char *key : {"\"edits\"", "\"op\": \"cancel\"", "\"region_faces\"", "\"singularities_before\"",
+                            "\"singularities_after\"", "\"separatrices\"", "\"source\": \"design\"",
+                            "\"holds\": true"})
+        EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+    // The cancelled pair had indices +1/4 and −1/4; afterwards no singularity is left.
+    EXPECT_EQ(json.find("\"index_numerator\": 1", json.find("\"singularities_after\"")), std::string::npos);
+
+    // Flags replace the scene's edits: cancel the same pair by position instead.
+    fs::path plain = writeScene("edit-near.yaml", block);
+    r = run("field '" + plain.string() + "' --cancel-near -0.3,0.05,0:0.3,-0.05,0 --json near.json", "field-near");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(slurp(workDir() / "near.json").find("\"op\": \"cancel\""), std::string::npos);
+
+    for (const std::string args : {"--cancel 0", "--move 0:0,0", "--cancel 1,1"}) {
+        CliRun bad = run("field '" + plain.string() + "' " + args, "field-edit-bad");
+        EXPECT_EQ(bad.exitCode, 2) << args << ": " << bad.err;
+        EXPECT_NE(bad.err.find("error:"), std::string::npos) << args << ": " << bad.err;
+    }
+    CliRun same = run("field '" + plain.string() + "' --cancel 0,7", "field-edit-id");
+    EXPECT_NE(same.err.find("singularity #7 does not exist"), std::string::npos) << same.err;
+}

@@ -1,1 +1,288 @@
-// placeholder
+// Screen-space field and Jobard–Lefer hatching against analytic expectations:
+// projected directions from finite differences of Camera::project, spacings from
+// the coverage formulas, directions from the exact cylinder.
+
+#include "field/design.h"
+#include "field/field_builder.h"
+#include "field/frames.h"
+#include "field/primitives.h"
+#include "field/singularities.h"
+#include "renderer/camera.h"
+#include "renderer/embree_scene.h"
+#include "renderer/gbuffer.h"
+#include "renderer/hatching.h"
+#include "renderer/screen_field.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+using namespace rosy;
+using namespace rosy::renderer;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+/// A mesh, its field and everything the hatcher needs, rendered once.
+struct Scene {
+    field::Mesh mesh;
+    std::unique_ptr<field::TangentFrames> frames;
+    field::RosyField field;
+    Camera camera;
+    GBuffer gbuffer;
+    ScreenField screen;
+
+    Scene(field::Mesh m, const Camera &cam) : mesh(std::move(m)), camera(cam) {
+        frames = std::make_unique<field::TangentFrames>(mesh);
+    }
+    void render() {
+        RayScene rs(mesh);
+        gbuffer = renderGBuffer(rs, mesh, camera);
+        screen = computeScreenField(gbuffer, *frames, field, camera);
+    }
+    std::vector<float> uniformDensity(float d) const { return std::vector<float>(gbuffer.nPixels(), d); }
+};
+
+/// A 2-RoSy on the z = 0 plane along world x, from one order-0 design element.
+field::RosyField constantField(const field::TangentFrames &frames, int nSym) {
+    field::DesignElement e;
+    e.position = field::Vec3(0.1, 0.05, 0);
+    e.order = 0;
+    e.direction = field::Vec3::UnitX();
+    return field::designField(frames, nSym, {e});
+}
+
+/// Screen direction (unit) of world tangent t at p, by central differences of project().
+Vec2 projectedDirection(const Camera &cam, const Vec3 &p, const Vec3 &t) {
+    const double eps = 1e-5;
+    return (cam.project(p + eps * t) - cam.project(p - eps * t)).normalized();
+}
+
+/// Angle in degrees between two screen lines (mod π).
+double lineAngleDeg(const Vec2 &a, const Vec2 &b) {
+    const double c = std::min(1.0, std::abs(a.normalized().dot(b.normalized())));
+    return std::acos(c) / kDeg;
+}
+
+Scene tiltedPlane(int size) {
+    // Seen at 45° about the world x axis: lines along x stay parallel on screen.
+    Camera cam = Camera::perspective(Vec3(0, -3, 3), Vec3(0, 0, 0), Vec3(0, 1, 0), 35.0, size, size);
+    Scene s(field::makeGrid(8), cam);
+    s.field = constantField(*s.frames, 2);
+    s.render();
+    return s;
+}
+
+Scene cylinder(int size) {
+    Camera cam = Camera::perspective(Vec3(4.5, 0.8, 1.6), Vec3(0, 0, 0), Vec3(0, 0, 1), 35.0, size, size);
+    Scene s(field::makeCylinder(1.0, 3.0, 256, 24), cam);
+    s.field = field::buildField(*s.frames, field::FieldSpec{}).field;
+    s.render();
+    return s;
+}
+
+} // namespace
+
+TEST(HatchSpacing, MatchesCoverageFormulas) {
+    styles::HatchStyle st;
+    // One family of width w at spacing s covers w / s.
+    EXPECT_NEAR(hatchSpacingPx(0.2, 1, st), 1.2 / 0.2, 1e-12);
+    // Two crossing families: 1 − (1 − w/s)² = ρ.
+    const double s2 = hatchSpacingPx(0.5, 2, st);
+    EXPECT_NEAR(1.0 - std::pow(1.0 - st.strokeWidthPx / s2, 2), 0.5, 1e-12);
+    EXPECT_DOUBLE_EQ(hatchSpacingPx(0.9, 1, st), st.minSpacingPx);
+    EXPECT_DOUBLE_EQ(hatchSpacingPx(0.0, 1, st), st.maxSpacingPx);
+    EXPECT_EQ(hatchFamilies(0.01, st), 0);
+    EXPECT_EQ(hatchFamilies(0.2, st), 1);
+    EXPECT_EQ(hatchFamilies(0.7, st), 2);
+    EXPECT_EQ(hatchFamilies(std::nan(""), st), 0);
+}
+
+TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
+    Scene s = tiltedPlane(96);
+    int checked = 0;
+    double worst = 0;
+    for (int y = 0; y < 96; y += 3)
+        for (int x = 0; x < 96; x += 3) {
+            if (!s.screen.isValid(x, y)) continue;
+            const size_t i = size_t(s.gbuffer.index(x, y));
+            const Vec3 &p = s.gbuffer.position[i];
+            const float a0 = s.screen.angle0[i], a1 = s.screen.angle1[i];
+            ASSERT_GE(a0, 0.f);
+            ASSERT_LT(a0, float(M_PI));
+            // d0 along world x, d1 along n × x = world y (which recedes to a vanishing point).
+            worst = std::max(worst, lineAngleDeg(Vec2(std::cos(a0), std::sin(a0)), projectedDirection(s.camera, p, Vec3::UnitX())));
+            worst = std::max(worst, lineAngleDeg(Vec2(std::cos(a1), std::sin(a1)), projectedDirection(s.camera, p, Vec3::UnitY())));
+            ++checked;
+        }
+    EXPECT_GT(checked, 300);
+    EXPECT_LT(worst, 0.05);
+    // The receding family really converges: dropping z would have made it vertical everywhere.
+    const size_t left = size_t(s.gbuffer.index(20, 48)), right = size_t(s.gbuffer.index(76, 48));
+    EXPECT_GT(std::abs(s.screen.angle1[left] - s.screen.angle1[right]) / kDeg, 5.0);
+}
+
+TEST(Hatching, PlaneAt45DegreesHasStyleSpacing) {
+    Scene s = tiltedPlane(192);
+    styles::HatchStyle st;
+    const float density = 0.2f; // one family, d_sep = w / ρ = 6 px
+    const double dSep = st.strokeWidthPx / density;
+    HatchReport report;
+    StrokeList list = traceHatches(s.screen, s.uniformDensity(density), s.gbuffer, st, 7, &report);
+    ASSERT_GT(report.strokes, 5);
+    EXPECT_EQ(report.strokesFamily1, 0);
+    EXPECT_EQ(report.minSpacingViolations, 0);
+    // Crossings of the vertical centre line, middle half of the image.
+    std::vector<double> ys;
+    const double xc = 96.0;
+    for (const Stroke &st2 : list.strokes)
+        for (size_t k = 0; k + 1 < st2.points.size(); ++k) {
+            const Vec2 &a = st2.points[k], &b = st2.points[k + 1];
+            if ((a.x() - xc) * (b.x() - xc) > 0 || a.x() == b.x()) continue;
+            const double y = a.y() + (xc - a.x()) / (b.x() - a.x()) * (b.y() - a.y());
+            if (y > 48 && y < 144) ys.push_back(y);
+        }
+    std::sort(ys.begin(), ys.end());
+    ASSERT_GE(ys.size(), 10u);
+    double sum = 0;
+    for (size_t k = 1; k < ys.size(); ++k) {
+        const double gap = ys[k] - ys[k - 1];
+        EXPECT_GT(gap, 0.5 * dSep) << "lines closer than d_test at y = " << ys[k];
+        sum += gap;
+    }
+    EXPECT_NEAR(sum / double(ys.size() - 1) / dSep, 1.0, 0.05);
+}
+
+TEST(Hatching, CylinderHatchesFollowRulingsAndCircles) {
+    Scene s = cylinder(160);
+    styles::HatchStyle st;
+    HatchReport report;
+    StrokeList list = traceHatches(s.screen, s.uniformDensity(0.6f), s.gbuffer, st, 3, &report);
+    ASSERT_GT(report.strokesFamily0, 5);
+    ASSERT_GT(report.strokesFamily1, 5);
+    int checked = 0, within = 0;
+    double sumErr = 0;
+    for (const Stroke &stroke : list.strokes)
+        for (size_t k = 0; k + 1 < stroke.points.size(); ++k) {
+            const Vec2 m = 0.5 * (stroke.points[k] + stroke.points[k + 1]);
+            // The exact cylinder x² + y² = 1 along the ray through the segment midpoint.
+            const Ray ray = s.camera.generateRay(m.x(), m.y());
+            const double a = ray.dir.x() * ray.dir.x() + ray.dir.y() * ray.dir.y();
+            const double b = 2 * (ray.origin.x() * ray.dir.x() + ray.origin.y() * ray.dir.y());
+            const double c = ray.origin.x() * ray.origin.x() + ray.origin.y() * ray.origin.y() - 1;
+            const double disc = b * b - 4 * a * c;
+            if (disc <= 0) continue;
+            const Vec3 p = ray.origin + (-b - std::sqrt(disc)) / (2 * a) * ray.dir;
+            const Vec3 n(p.x(), p.y(), 0);
+            // Away from the open ends and from grazing views, where the mesh and the
+            // curvature estimate differ from the ideal cylinder.
+            if (std::abs(p.z()) > 1.1 || -n.dot(ray.dir) < 0.4) continue;
+            const Vec2 seg = stroke.points[k + 1] - stroke.points[k];
+            if (seg.norm() < 0.3) continue;
+            const double eRuling = lineAngleDeg(seg, projectedDirection(s.camera, p, Vec3::UnitZ()));
+            const double eCircle = lineAngleDeg(seg, projectedDirection(s.camera, p, Vec3(-p.y(), p.x(), 0)));
+            const double e = std::min(eRuling, eCircle);
+            sumErr += e;
+            within += e <= 1.0;
+            ++checked;
+        }
+    ASSERT_GT(checked, 500);
+    EXPECT_EQ(within, checked) << "mean error " << sumErr / checked << " deg";
+}
+
+TEST(Hatching, InkNeverDecreasesAlongAToneRamp) {
+    Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 2.2, 256, 256);
+    Scene s(field::makeGrid(4), cam);
+    s.field = constantField(*s.frames, 2);
+    s.render();
+    // Eight horizontal bands of 32 rows, density 0.05 (paper) to 0.75 (cross-hatched).
+    std::vector<float> density(s.gbuffer.nPixels());
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) density[size_t(y * 256 + x)] = 0.05f + 0.1f * float(y / 32);
+    styles::HatchStyle st;
+    StrokeList list = traceHatches(s.screen, density, s.gbuffer, st, 11, nullptr);
+    // Ink per covered pixel of each band (the plane does not fill the outer bands).
+    std::vector<double> ink(8, 0.0), area(8, 0.0);
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) area[size_t(y / 32)] += s.gbuffer.covered(x, y) ? 1.0 : 0.0;
+    for (const Stroke &stroke : list.strokes)
+        for (size_t k = 0; k + 1 < stroke.points.size(); ++k) {
+            const Vec2 m = 0.5 * (stroke.points[k] + stroke.points[k + 1]);
+            const int band = std::clamp(int(m.y() / 32), 0, 7);
+            ink[size_t(band)] += (stroke.points[k + 1] - stroke.points[k]).norm() * 0.5 *
+                                 (stroke.widths[k] + stroke.widths[k + 1]);
+        }
+    EXPECT_EQ(ink[0], 0.0); // below highlightDensity
+    for (int b = 0; b < 8; ++b) {
+        ASSERT_GT(area[size_t(b)], 1000.0);
+        ink[size_t(b)] /= area[size_t(b)];
+    }
+    for (int b = 1; b < 8; ++b) EXPECT_GT(ink[size_t(b)], ink[size_t(b - 1)]) << "band " << b;
+}
+
+TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
+    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 192, 192);
+    Scene s(field::makeDisk(24), cam);
+    field::DesignElement e;
+    e.position = field::Vec3(0.05, 0.02, 0);
+    e.order = 1;
+    s.field = field::designField(*s.frames, 4, {e});
+    s.render();
+    styles::HatchStyle st;
+    const float density = 0.1f;
+    const double dSep = st.strokeWidthPx / density; // 12 px, one family
+    HatchReport report;
+    StrokeList list = traceHatches(s.screen, s.uniformDensity(density), s.gbuffer, st, 5, &report);
+    ASSERT_GT(report.strokes, 5);
+    EXPECT_EQ(report.strokesNearSingularities, 0);
+    EXPECT_EQ(report.minSpacingViolations, 0);
+
+    // Singularities straight from the field, projected by the camera.
+    const field::SingularityReport sing = field::findSingularities(*s.frames, s.field);
+    ASSERT_FALSE(sing.singularities.empty());
+    double nearest = 1e9;
+    for (const Stroke &stroke : list.strokes) {
+        for (const Vec2 &p : stroke.points) {
+            ASSERT_TRUE(s.gbuffer.covered(int(std::floor(p.x())), int(std::floor(p.y()))))
+                << "stroke " << stroke.id << " leaves the surface at " << p.transpose();
+        }
+        for (size_t k = 0; k + 1 < stroke.points.size(); ++k)
+            for (const field::Singularity &sg : sing.singularities) {
+                const Vec2 c = cam.project(sg.position);
+                const Vec2 a = stroke.points[k], ab = stroke.points[k + 1] - a;
+                const double t = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+                nearest = std::min(nearest, (c - (a + t * ab)).norm());
+            }
+    }
+    EXPECT_GE(nearest, 0.98 * dSep);
+    // Not vacuous: hatches do come up to the disc.
+    EXPECT_LT(nearest, 2.0 * dSep);
+}
+
+TEST(Hatching, SameStrokesForOneAndTwoThreads) {
+    Scene s = cylinder(128);
+    styles::HatchStyle st;
+    st.jitterPx = 0.3;
+    auto run = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        ScreenField sf = computeScreenField(s.gbuffer, *s.frames, s.field, s.camera);
+        return traceHatches(sf, s.uniformDensity(0.5f), s.gbuffer, st, 9, nullptr);
+    };
+    const StrokeList a = run(1), b = run(2);
+    ASSERT_EQ(a.strokes.size(), b.strokes.size());
+    ASSERT_GT(a.strokes.size(), 3u);
+    for (size_t k = 0; k < a.strokes.size(); ++k) {
+        EXPECT_EQ(a.strokes[k].id, uint32_t(k));
+        EXPECT_EQ(a.strokes[k].id, b.strokes[k].id);
+        EXPECT_EQ(a.strokes[k].family, b.strokes[k].family);
+        ASSERT_EQ(a.strokes[k].points.size(), b.strokes[k].points.size());
+        for (size_t i = 0; i < a.strokes[k].points.size(); ++i) {
+            EXPECT_EQ(a.strokes[k].points[i], b.strokes[k].points[i]);
+            EXPECT_EQ(a.strokes[k].widths[i], b.strokes[k].widths[i]);
+        }
+    }
+}

@@ -2,10 +2,12 @@
 // Line/column numbers below are counted by hand in the YAML text of each test
 // (1-based; yaml-cpp's 0-based marks must be shifted).
 
+#include "field/primitives.h"
 #include "scenes/scene.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -179,4 +181,127 @@ TEST(EditDistance, CountsEdits) {
     EXPECT_EQ(editDistance("", "abc"), 3);
     EXPECT_EQ(editDistance("fov", "fov"), 0);
     EXPECT_EQ(editDistance("fvo", "fov"), 2);
+}
+
+TEST(ParseSceneField, ValidBlockWithElementsAndEdits) {
+    SceneDesc d = parseScene("mesh: thing.off\n"
+                             "field:\n"
+                             "  symmetry: 2\n"
+                             "  source: design\n"
+                             "  smoothing_length: 0.1\n"
+                             "  elements:\n"
+                             "    - {position: [0, 1, 0], order: 1, phase: 90, strength: 2}\n"
+                             "    - {position: [1, 0, 0], direction: [0, 0, 1]}\n"
+                             "  edits:\n"
+                             "    - {cancel: [0, 1]}\n"
+                             "    - {move: {singularity: 2, to: [0, 0, 1]}}\n"
+                             "    - {cancel_near: [[0, 0, 0], [1, 1, 1]]}\n",
+                             scenePath());
+    ASSERT_TRUE(d.field.given);
+    EXPECT_EQ(d.field.spec.nSym, 2);
+    EXPECT_EQ(d.field.symmetryLoc.line, 3);
+    EXPECT_EQ(d.field.symmetryLoc.col, 13);
+    EXPECT_EQ(d.field.spec.source, rosy::field::FieldSource::Design);
+    EXPECT_DOUBLE_EQ(d.field.spec.smoothingLength, 0.1);
+    ASSERT_EQ(d.field.spec.elements.size(), 2u);
+    EXPECT_EQ(d.field.spec.elements[0].order, 1);
+    EXPECT_NEAR(d.field.spec.elements[0].phaseRad, M_PI / 2, 1e-15);
+    EXPECT_DOUBLE_EQ(d.field.spec.elements[0].strength, 2.0);
+    EXPECT_EQ(d.field.spec.elements[0].position, Vec3(0, 1, 0));
+    EXPECT_EQ(d.field.spec.elements[1].order, 0);
+    EXPECT_EQ(d.field.spec.elements[1].direction, Vec3(0, 0, 1));
+    EXPECT_EQ(d.field.spec.elements[1].label, scenePath() + ":8:7");
+    ASSERT_EQ(d.field.edits.size(), 3u);
+    EXPECT_EQ(d.field.edits[0].op, FieldEditDesc::Op::Cancel);
+    EXPECT_EQ(d.field.edits[0].a, 0);
+    EXPECT_EQ(d.field.edits[0].b, 1);
+    EXPECT_EQ(d.field.edits[0].loc.line, 10);
+    EXPECT_EQ(d.field.edits[0].loc.col, 7);
+    EXPECT_EQ(d.field.edits[1].op, FieldEditDesc::Op::Move);
+    EXPECT_EQ(d.field.edits[1].a, 2);
+    EXPECT_EQ(d.field.edits[1].p, Vec3(0, 0, 1));
+    EXPECT_EQ(d.field.edits[2].op, FieldEditDesc::Op::CancelNear);
+    EXPECT_EQ(d.field.edits[2].q, Vec3(1, 1, 1));
+}
+
+TEST(ParseSceneField, DefaultsWithoutBlock) {
+    SceneDesc d = parseScene("mesh: thing.off\n", scenePath());
+    EXPECT_FALSE(d.field.given);
+    EXPECT_EQ(d.field.spec.nSym, 4);
+    EXPECT_EQ(d.field.spec.source, rosy::field::FieldSource::Curvature);
+    EXPECT_DOUBLE_EQ(d.field.spec.smoothingLength, 0.04);
+    EXPECT_TRUE(d.field.edits.empty());
+}
+
+TEST(ParseSceneField, ErrorsCarryFileLineColumn) {
+    const std::string p = scenePath();
+    std::string unknown = errorOf("mesh: thing.off\nfield:\n  symetry: 4\n");
+    EXPECT_TRUE(startsWith(unknown, p + ":3:3: error: unknown key 'symetry' in field")) << unknown;
+    EXPECT_TRUE(contains(unknown, "did you mean 'symmetry'?")) << unknown;
+    std::string source = errorOf("mesh: thing.off\nfield: {source: curvatur}\n");
+    EXPECT_TRUE(startsWith(source, p + ":2:17: error: unknown field source 'curvatur'")) << source;
+    EXPECT_TRUE(contains(source, "did you mean 'curvature'?")) << source;
+    std::string sym = errorOf("mesh: thing.off\nfield: {symmetry: 13}\n");
+    EXPECT_TRUE(startsWith(sym, p + ":2:19: error: field.symmetry must be in [1, 12], got 13")) << sym;
+    std::string order = errorOf("mesh: thing.off\nfield:\n  elements:\n    - {position: [0, 0, 0], order: 2}\n");
+    EXPECT_TRUE(startsWith(order, p + ":4:36: error: field.elements[0].order must be in [-1, 1], got 2")) << order;
+    std::string phase = errorOf("mesh: thing.off\nfield:\n  elements:\n    - {position: [0, 0, 0], phase: 30}\n");
+    EXPECT_TRUE(startsWith(phase, p + ":4:36: error: field.elements[0].phase only applies")) << phase;
+    std::string design = errorOf("mesh: thing.off\nfield: {source: design}\n");
+    EXPECT_TRUE(startsWith(design, p + ":2:17: error: a designed field needs at least one element")) << design;
+}
+
+TEST(ParseSceneField, BadEditShapes) {
+    const std::string p = scenePath();
+    const std::string head = "mesh: thing.off\nfield:\n  edits:\n";
+    std::string one = errorOf(head + "    - {cancel: [1]}\n");
+    EXPECT_TRUE(startsWith(one, p + ":4:16: error: field.edits[0].cancel must be a list of two singularity ids"))
+        << one;
+    std::string two = errorOf(head + "    - {cancel: [1, 2], move: {singularity: 0, to: [0, 0, 0]}}\n");
+    EXPECT_TRUE(startsWith(two, p + ":4:7: error: field.edits[0] must hold exactly one operation")) << two;
+    std::string half = errorOf(head + "    - {move: {singularity: 1}}\n");
+    EXPECT_TRUE(startsWith(half, p + ":4:14: error: field.edits[0].move needs both singularity and to")) << half;
+    std::string op = errorOf(head + "    - {cancle: [0, 1]}\n");
+    EXPECT_TRUE(startsWith(op, p + ":4:8: error: unknown key 'cancle' in field.edits[0]")) << op;
+    EXPECT_TRUE(contains(op, "did you mean 'cancel'?")) << op;
+    std::string neg = errorOf(head + "    - {cancel: [-1, 2]}\n");
+    EXPECT_TRUE(startsWith(neg, p + ":4:17: error: field.edits[0].cancel[0] must be in")) << neg;
+    std::string list = errorOf(head + "    cancel: [0, 1]\n");
+    EXPECT_TRUE(startsWith(list, p + ":4:5: error: field.edits must be a list")) << list;
+}
+
+TEST(ApplyFieldEdits, RenumbersBetweenEditsAndNamesTheFailingEntry) {
+    // A designed ±1 pair on a disk: cancelling it leaves no singularity, so a
+    // second edit naming id 0 must fail at its own location.
+    const rosy::field::Mesh mesh = rosy::field::makeDisk(12);
+    const rosy::field::TangentFrames frames(mesh);
+    rosy::field::FieldSpec spec;
+    spec.source = rosy::field::FieldSource::Design;
+    rosy::field::DesignElement plus, minus;
+    plus.position = Vec3(-0.3, 0.05, 0);
+    plus.order = 1;
+    minus.position = Vec3(0.3, -0.05, 0);
+    minus.order = -1;
+    spec.elements = {plus, minus};
+    spec.weights = rosy::field::LaplaceWeights::Cotan;
+    rosy::field::RosyField field = rosy::field::buildField(frames, spec).field;
+    FieldEditDesc near;
+    near.op = FieldEditDesc::Op::CancelNear;
+    near.p = plus.position;
+    near.q = minus.position;
+    near.loc = rosy::FileLoc{"s.yaml", 5, 7};
+    std::vector<AppliedEdit> done = applyFieldEdits(frames, field, {near});
+    ASSERT_EQ(done.size(), 1u);
+    EXPECT_EQ(done[0].before.size(), 2u);
+    EXPECT_TRUE(done[0].after.empty());
+    FieldEditDesc again;
+    again.a = 0;
+    again.b = 1;
+    again.loc = rosy::FileLoc{"s.yaml", 6, 7};
+    try {
+        applyFieldEdits(frames, field, {again});
+        ADD_FAILURE() << "no error for a cancel on a field without singularities";
+    } catch (const rosy::InputError &e) {
+        EXPECT_TRUE(startsWith(e.what(), "s.yaml:6:7: error: singularity #0 does not exist")) << e.what();
+    }
 }

@@ -1,0 +1,82 @@
+#include "renderer/illustration.h"
+
+#include "core/error.h"
+#include "renderer/embree_scene.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace rosy::renderer {
+namespace {
+using Clock = std::chrono::steady_clock;
+} // namespace
+
+double nominalHatchSpacingPx(const styles::HatchStyle &style) {
+    return localSpacingPx(0.5, style);
+}
+
+Illustration renderIllustration(const IllustrationInput &in) {
+    ROSY_CHECK(in.mesh && in.frames && in.field && in.scene && in.camera);
+    const Camera &camera = *in.camera;
+    Illustration out;
+    auto t0 = Clock::now();
+    auto lap = [&](const char *stage) {
+        auto t = Clock::now();
+        out.timingsMs.emplace_back(stage, std::chrono::duration<double, std::milli>(t - t0).count());
+        t0 = t;
+    };
+    out.gbuffer = renderGBuffer(*in.scene, *in.mesh, camera);
+    lap("gbuffer");
+
+    // Tone → target ink density through the style's tone curve.
+    const std::vector<double> tone = shadeLambert(out.gbuffer, *in.scene, *in.mesh, camera, in.lights, in.shading);
+    out.targetDensity.assign(out.gbuffer.nPixels(), 0.0f);
+    const double gamma = in.style.hatch.toneGamma;
+    for (size_t i = 0; i < tone.size(); ++i)
+        if (out.gbuffer.faceId[i] >= 0)
+            out.targetDensity[i] = float(std::pow(std::clamp(1.0 - tone[i], 0.0, 1.0), gamma));
+    lap("tone");
+
+    out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, camera);
+    lap("screen_field");
+
+    out.strokes = traceHatches(out.screen, out.targetDensity, out.gbuffer, in.style.hatch, in.style.seed);
+    out.hatch = measureHatches(out.strokes, out.screen, out.targetDensity, in.style.hatch);
+    lap("hatching");
+
+    StrokeList contours = extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
+    // Contour ids start at kContourIdBase, so every stroke's id stays unique.
+    for (Stroke &s : contours.strokes) out.strokes.strokes.push_back(std::move(s));
+    out.strokes.width = out.gbuffer.width;
+    out.strokes.height = out.gbuffer.height;
+    lap("contours");
+
+    out.layers = rasterizeStrokes(out.strokes);
+    out.composite = compositeInk(out.layers, in.style);
+    lap("raster");
+    return out;
+}
+
+Image illustrationExr(const Illustration &il) {
+    SurfaceChannels surface;
+    const size_t n = il.gbuffer.nPixels();
+    surface.targetDensity = il.targetDensity;
+    surface.depth.assign(n, 0.0f);
+    surface.normalX.assign(n, 0.0f);
+    surface.normalY.assign(n, 0.0f);
+    surface.normalZ.assign(n, 0.0f);
+    surface.mask.assign(n, 0.0f);
+    for (size_t i = 0; i < n; ++i) {
+        if (il.gbuffer.faceId[i] < 0) continue;
+        surface.depth[i] = float(il.gbuffer.depth[i]);
+        surface.normalX[i] = float(il.gbuffer.normal[i].x());
+        surface.normalY[i] = float(il.gbuffer.normal[i].y());
+        surface.normalZ[i] = float(il.gbuffer.normal[i].z());
+        surface.mask[i] = 1.0f;
+    }
+    surface.angle0 = il.screen.angle0;
+    surface.angle1 = il.screen.angle1;
+    return inkExrImage(il.layers, il.composite, surface);
+}
+
+} // namespace rosy::renderer
