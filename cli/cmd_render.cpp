@@ -124,7 +124,7 @@ void runRender(const RenderOptions &opt) {
         writeText(opt.reportPath, json.str());
     }
     if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath, totalMs);
-    if (!opt.common.quiet) std::cout << output << "\n";
+    std::cout << output << "\n"; // the written path, also with --quiet (scripts read it)
 }
 
 } // namespace

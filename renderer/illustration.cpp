@@ -12,7 +12,9 @@ using Clock = std::chrono::steady_clock;
 } // namespace
 
 double nominalHatchSpacingPx(const styles::HatchStyle &style) {
-    return localSpacingPx(0.5, style);
+    // A light mid-tone, where most of a drawing's hatches sit: blurring at this
+    // scale measures tone without averaging dark regions into their neighbours.
+    return localSpacingPx(0.25, style);
 }
 
 Illustration renderIllustration(const IllustrationInput &in) {

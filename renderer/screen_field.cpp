@@ -20,7 +20,7 @@ Vec2 foldLine(const Vec2 &v) {
 }
 
 float lineAngle(const Vec2 &folded) {
-    const float a = float(std::atan2(folded.y(), folded.x()));
+    const float a = std::atan2(float(folded.y()), float(folded.x()));
     // Rounding to float can land on π itself, which is the same line as 0.
     return a >= 0.f && a < float(M_PI) ? a : 0.f;
 }
@@ -53,6 +53,21 @@ bool undouble(const Vec2 &s, Vec2 &dir) {
     if (s.y() < 0) sy = -sy;
     dir = Vec2(cx, sy);
     return true;
+}
+
+/// 3D direction of the first member vector, angle arg(u)/N in face f's frame. For
+/// N = 1, 2, 4 principal square roots give exactly that angle without trigonometry
+/// (arg of the principal root is half the argument).
+Vec3 memberDirection(const field::TangentFrames &frames, int f, field::Complex u, int nSym) {
+    field::Complex r;
+    switch (nSym) {
+    case 1: r = u; break;
+    case 2: r = std::sqrt(u); break;
+    case 4: r = std::sqrt(std::sqrt(u)); break;
+    default: return frames.faceDirection(f, std::arg(u) / nSym);
+    }
+    const double n = std::abs(r);
+    return (r.real() / n) * frames.faceAxisX(f) + (r.imag() / n) * frames.faceAxisY(f);
 }
 
 } // namespace
@@ -138,7 +153,7 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             const double strength = std::abs(u);
             out.strength[i] = float(strength);
             if (!(strength > 1e-12)) continue;
-            const Vec3 m0 = frames.faceDirection(f, std::arg(u) / nSym);
+            const Vec3 m0 = memberDirection(frames, f, u, nSym);
             const Vec3 m1 = faceNormal[size_t(f)].cross(m0);
             const Eigen::Matrix<double, 2, 3> J = camera.projectJacobian(gbuffer.position[i]);
             const Vec2 s0 = J * m0, s1 = J * m1;

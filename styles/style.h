@@ -15,12 +15,12 @@ using Rgb = std::array<double, 3>;
 /// How hatches turn tone into ink. Densities are ink coverage in [0, 1]
 /// (0 = white paper, 1 = solid ink); lengths are pixels of the render resolution.
 struct HatchStyle {
-    double strokeWidthPx = 1.2;     ///< nominal hatch line width
-    double minSpacingPx = 3.5;      ///< densest allowed spacing between parallel hatches
+    double strokeWidthPx = 1.3;     ///< nominal hatch line width
+    double minSpacingPx = 2.6;      ///< densest spacing between parallel hatches (two families then cover 75%)
     double maxSpacingPx = 24.0;     ///< sparsest spacing (lightest hatched tone)
-    double highlightDensity = 0.06; ///< below this target density: no hatching (paper shows)
+    double highlightDensity = 0.1;  ///< below this target density: no hatching (paper shows)
     double crossDensity = 0.45;     ///< above this: the second family (cross-hatching) is added
-    double toneGamma = 1.0;         ///< target density = (1 − tone)^gamma
+    double toneGamma = 1.6;         ///< target density = (1 − tone)^gamma; > 1 opens up the lit side
     double taper = 0.25;            ///< fraction of a stroke's length over which its ends thin out
     double pressureVariation = 0.2; ///< relative width variation along a stroke (smooth noise)
     double jitterPx = 0.0;          ///< positional wobble amplitude
