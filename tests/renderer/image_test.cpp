@@ -156,9 +156,10 @@ TEST(WriteImage, MissingFolderIsAnIoError) {
 
 TEST(WriteImage, FailedWriteLeavesExistingFileAndNoTemporary) {
     fs::path dir = freshDir("failed");
-    // A 244-character name is legal, but the temporary name next to it exceeds the
+    // A 249-character name is legal, but the temporary name next to it (dot, .tmp,
+    // pid, counter) exceeds the
     // 255-byte limit of common file systems, so opening the temporary file fails.
-    fs::path path = dir / (std::string(240, 'k') + ".png");
+    fs::path path = dir / (std::string(245, 'k') + ".png");
     {
         std::ofstream(path, std::ios::binary) << "precious";
     }
