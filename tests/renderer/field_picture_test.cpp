@@ -1,0 +1,165 @@
+// Tests of the field picture: dots where the singularities are, in the colour of
+// their sign, separatrices in their colour, and thread-count independence.
+
+#include "renderer/field_picture.h"
+
+#include "field/design.h"
+#include "field/primitives.h"
+#include "field/smoothing.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace rosy;
+using namespace rosy::renderer;
+using field::Vec3;
+
+namespace {
+
+// Colour classes in linear light, far apart from each other and from the grey
+// background, the dark streamlines and the black dot rims.
+bool isRed(const Image &im, int x, int y) {
+    return im.at(x, y, 0) > 0.5f && im.at(x, y, 1) < 0.2f && im.at(x, y, 2) < 0.2f;
+}
+bool isBlue(const Image &im, int x, int y) {
+    return im.at(x, y, 2) > 0.5f && im.at(x, y, 0) < 0.2f && im.at(x, y, 1) < 0.35f;
+}
+bool isGreen(const Image &im, int x, int y) {
+    return im.at(x, y, 1) > 0.3f && im.at(x, y, 0) < 0.2f && im.at(x, y, 2) < 0.2f;
+}
+
+/// Connected components (4-neighbour) of the pixels where pred holds.
+template <class Pred> int countBlobs(const Image &im, Pred pred) {
+    std::vector<char> seen(size_t(im.width) * size_t(im.height), 0);
+    int n = 0;
+    for (int y0 = 0; y0 < im.height; ++y0)
+        for (int x0 = 0; x0 < im.width; ++x0) {
+            if (seen[size_t(y0 * im.width + x0)] || !pred(im, x0, y0)) continue;
+            ++n;
+            std::vector<std::pair<int, int>> stack{{x0, y0}};
+            seen[size_t(y0 * im.width + x0)] = 1;
+            while (!stack.empty()) {
+                auto [x, y] = stack.back();
+                stack.pop_back();
+                const int nb[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
+                for (const auto &q : nb) {
+                    if (q[0] < 0 || q[1] < 0 || q[0] >= im.width || q[1] >= im.height) continue;
+                    char &s = seen[size_t(q[1] * im.width + q[0])];
+                    if (s || !pred(im, q[0], q[1])) continue;
+                    s = 1;
+                    stack.push_back({q[0], q[1]});
+                }
+            }
+        }
+    return n;
+}
+
+struct DiskScene {
+    field::Mesh mesh = field::makeDisk(16);
+    field::TangentFrames frames{mesh};
+    field::RosyField field;
+    field::SingularityReport report;
+    std::vector<field::Separatrix> separatrices;
+    DiskScene() {
+        field::DesignElement e;
+        e.position = Vec3(0.21, -0.13, 0);
+        e.order = -1;
+        field = field::designField(frames, 4, {e});
+        report = field::findSingularities(frames, field);
+        separatrices = field::traceSeparatrices(frames, field, report.singularities);
+    }
+};
+
+// Camera above the unit disk in z = 0 looking down −z, image up = +y.
+constexpr double kEyeZ = 3.0, kFovDeg = 50.0;
+constexpr int kSize = 256;
+
+Image renderDisk(const DiskScene &s) {
+    const Camera cam = Camera::perspective(Vec3(0, 0, kEyeZ), Vec3::Zero(), Vec3(0, 1, 0), kFovDeg, kSize, kSize);
+    FieldPictureOptions opt;
+    opt.dotRadiusPx = 16; // 4 px at 256²
+    opt.separatrixWidthPx = 8;
+    return renderFieldPicture(s.mesh, s.frames, s.field, s.report, s.separatrices, cam, opt);
+}
+
+} // namespace
+
+TEST(FieldPicture, NegativeSingularityIsBlueDotAtItsProjection) {
+    const DiskScene s;
+    ASSERT_EQ(s.report.singularities.size(), 1u);
+    ASSERT_EQ(s.report.singularities[0].indexNumerator, -1);
+    ASSERT_FALSE(s.separatrices.empty());
+    const Image im = renderDisk(s);
+    ASSERT_EQ(im.width, kSize);
+    ASSERT_EQ(im.height, kSize);
+    ASSERT_EQ(im.nChannels, 3);
+
+    // Pinhole projection by hand: x_raster = W/2 (1 + x / (d tan(fov/2))), y flipped.
+    const Vec3 p = s.report.singularities[0].position;
+    const double f = 0.5 * kSize / std::tan(0.5 * kFovDeg * M_PI / 180.0);
+    const double px = 0.5 * kSize + f * p.x() / (kEyeZ - p.z());
+    const double py = 0.5 * kSize - f * p.y() / (kEyeZ - p.z());
+
+    int blueNear = 0, blueFar = 0, red = 0, green = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const double d = std::hypot(x + 0.5 - px, y + 0.5 - py);
+            if (isBlue(im, x, y)) (d < 6 ? blueNear : blueFar)++;
+            red += isRed(im, x, y);
+            green += isGreen(im, x, y);
+        }
+    EXPECT_GE(blueNear, 20); // a disk of radius 4 px has ~50 pixels
+    EXPECT_EQ(blueFar, 0);
+    EXPECT_EQ(red, 0);
+    EXPECT_GT(green, 50); // N + 1 = 5 outgoing separatrices, even N: all green
+}
+
+TEST(FieldPicture, IdenticalForOneAndTwoThreads) {
+    const DiskScene s;
+    Image one, two;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = renderDisk(s);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        two = renderDisk(s);
+    }
+    ASSERT_EQ(one.data.size(), two.data.size());
+    EXPECT_TRUE(one.data == two.data);
+    // Not a blank picture: streamlines darken some surface pixels.
+    int dark = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) dark += one.at(x, y, 0) < 0.2f && one.at(x, y, 1) < 0.2f && one.at(x, y, 2) < 0.2f;
+    EXPECT_GT(dark, 200);
+}
+
+TEST(FieldPicture, RedBlobsMatchVisiblePositiveSingularitiesOnSphere) {
+    const field::Mesh mesh = field::makeIcosphere(3);
+    const field::TangentFrames frames(mesh);
+    const field::RosyField rosy = field::smoothestField(frames, 4).field;
+    const field::SingularityReport report = field::findSingularities(frames, rosy);
+    const Camera cam = frameMesh(mesh, kSize, kSize);
+
+    // On a sphere around the origin a point is visible iff it faces the eye:
+    // p · (eye − p) > 0. Skip the check near the silhouette where it is ambiguous.
+    int visiblePositive = 0, nPositive = 0;
+    for (const field::Singularity &sg : report.singularities) {
+        if (sg.indexNumerator <= 0) continue;
+        ++nPositive;
+        const Vec3 n = sg.position.normalized();
+        const double c = n.dot((cam.position() - sg.position).normalized());
+        ASSERT_GT(std::abs(c), 0.1) << "singularity on the silhouette; choose another view";
+        visiblePositive += c > 0;
+    }
+    ASSERT_GE(nPositive, 4); // Poincaré–Hopf: Σ k/4 = 2
+    ASSERT_GT(visiblePositive, 0);
+
+    FieldPictureOptions opt;
+    opt.dotRadiusPx = 16;
+    const Image im = renderFieldPicture(mesh, frames, rosy, report, {}, cam, opt);
+    EXPECT_EQ(countBlobs(im, isRed), visiblePositive);
+}
