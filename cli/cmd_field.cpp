@@ -1,7 +1,8 @@
 /// \file cmd_field.cpp
 /// `rosyhatch field SCENE_OR_MESH`: builds an N-RoSy field on a mesh, finds its
 /// singularities, prints a summary and optionally writes the JSON report and a
-/// PLY export of the member directions.
+/// PLY export of the member directions, and pictures of the field (--image,
+/// --image-before).
 
 #include "cli/commands.h"
 
@@ -14,6 +15,8 @@
 #include "field/mesh_stats.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
+#include "renderer/field_picture.h"
+#include "renderer/image.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
@@ -44,6 +47,7 @@ struct FieldOptions {
     std::vector<std::pair<std::string, std::string>> editOrder;
     bool separatrices = false;
     std::string jsonPath, plyPath;
+    std::string imagePath, imageBeforePath; ///< field pictures after / before the edits
     CommonOptions common;
     /// Options a scene's field block provides too: the flag wins only when given.
     std::vector<std::string> explicitFlags;
@@ -236,6 +240,17 @@ void runField(const FieldOptions &opt) {
     if (!opt.jsonPath.empty()) checkWritable(opt.jsonPath);
     if (!opt.plyPath.empty()) checkWritable(opt.plyPath);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
+    for (const auto &[flag, path] : {std::pair<std::string, std::string>{"--image", opt.imagePath},
+                                     std::pair<std::string, std::string>{"--image-before", opt.imageBeforePath}}) {
+        if (path.empty()) continue;
+        if (!renderer::isSupportedImagePath(path))
+            throw InputError(FileLoc{flag}, "cannot write an image named '" + path + "'",
+                             std::string("use one of the extensions ") + renderer::supportedImageExtensions());
+        checkWritable(path);
+    }
+    if (!opt.imageBeforePath.empty() && edits.empty())
+        throw InputError(FileLoc{"--image-before"}, "there are no edits to show the field before",
+                         "give --cancel, --move or --cancel-near (or a scene with field edits), or use --image only");
 
     std::vector<std::pair<std::string, double>> ms;
     auto t0 = Clock::now(), tStart = t0;
@@ -245,10 +260,16 @@ void runField(const FieldOptions &opt) {
         t0 = t;
     };
     field::Mesh mesh;
-    if (scene)
-        mesh = scenes::buildScene(*scene).mesh;
-    else
+    // Pictures use the scene's camera, or a 1024² automatic framing of a bare mesh.
+    std::optional<renderer::Camera> camera;
+    if (scene) {
+        scenes::Scene built = scenes::buildScene(*scene);
+        mesh = std::move(built.mesh);
+        camera = built.camera;
+    } else {
         mesh = field::loadMesh(opt.input);
+    }
+    if (!camera) camera = renderer::frameMesh(mesh, 1024, 1024);
     lap("load");
     const field::MeshStats stats = field::computeStats(mesh);
     field::TangentFrames frames(mesh);
@@ -256,7 +277,21 @@ void runField(const FieldOptions &opt) {
     field::FieldResult result = field::buildField(frames, spec);
     for (const auto &[stage, t] : result.timingsMs) ms.emplace_back(stage, t);
     t0 = Clock::now();
+    // Renders one picture of `rosyField` with its singularities and (if asked) separatrices.
+    auto writePicture = [&](const std::string &path, const field::RosyField &rosyField,
+                            const field::SingularityReport &rep, const std::vector<field::Separatrix> &seps) {
+        const renderer::Image image =
+            renderer::renderFieldPicture(mesh, frames, rosyField, rep, seps, *camera);
+        renderer::writeImage(image, path);
+    };
     std::vector<scenes::AppliedEdit> applied;
+    if (!opt.imageBeforePath.empty()) {
+        const field::SingularityReport before = field::findSingularities(frames, result.field);
+        std::vector<field::Separatrix> seps;
+        if (opt.separatrices) seps = field::traceSeparatrices(frames, result.field, before.singularities);
+        writePicture(opt.imageBeforePath, result.field, before, seps);
+        lap("image-before");
+    }
     if (!edits.empty()) {
         applied = scenes::applyFieldEdits(frames, result.field, edits);
         lap("edits");
@@ -267,6 +302,10 @@ void runField(const FieldOptions &opt) {
     if (opt.separatrices) {
         separatrices = field::traceSeparatrices(frames, result.field, report.singularities);
         lap("separatrices");
+    }
+    if (!opt.imagePath.empty()) {
+        writePicture(opt.imagePath, result.field, report, separatrices);
+        lap("image");
     }
     ms.emplace_back("total", std::chrono::duration<double, std::milli>(Clock::now() - tStart).count());
 
@@ -349,6 +388,12 @@ void addFieldCommand(CLI::App &app, Action &action) {
     sub->add_flag("--separatrices", opt->separatrices, "Trace separatrices and add them to the JSON report");
     sub->add_option("--json", opt->jsonPath, "Write the JSON report here");
     sub->add_option("--export", opt->plyPath, "Write the field as PLY with per-vertex member directions");
+    sub->add_option("--image", opt->imagePath,
+                    "Write a picture of the field (after any edits): shaded mesh, streamlines, singularities "
+                    "(red +, blue -, darker/larger for higher order), separatrices with --separatrices "
+                    "(green outgoing, orange incoming); format from the extension");
+    sub->add_option("--image-before", opt->imageBeforePath,
+                    "Write the same picture of the field before the edits, to compare with --image");
     addCommonOptions(*sub, opt->common);
     sub->callback([opt, sub, editFlags, &action] {
         // The edit flags are separate options, so their relative order comes from

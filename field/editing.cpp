@@ -1,6 +1,7 @@
 #include "field/editing.h"
 
 #include "field/design.h"
+#include "field/laplacian.h"
 #include "field/sparse_solver.h"
 
 #include <algorithm>
@@ -12,25 +13,6 @@
 
 namespace rosy::field {
 namespace {
-
-// cot of the corner opposite halfedge h, clamped exactly as in the global
-// connection Laplacian (laplacian.cpp), so a region solve and a whole-mesh solve
-// with the same Dirichlet rows agree.
-double oppositeCot(const Mesh &mesh, int h) {
-    const Vec3 a = mesh.position(mesh.tail(h)) - mesh.position(mesh.tail(Mesh::prev(h)));
-    const Vec3 b = mesh.position(mesh.head(h)) - mesh.position(mesh.tail(Mesh::prev(h)));
-    const double s = a.cross(b).norm();
-    const double c = a.dot(b);
-    if (s <= std::abs(c) * 1e-4) return c >= 0 ? 1e4 : -1e4;
-    return std::clamp(c / s, -1e4, 1e4);
-}
-
-double cotanWeight(const Mesh &mesh, int e) {
-    const int h = mesh.edgeHalfedge(e);
-    double w = 0.5 * oppositeCot(mesh, h);
-    if (mesh.twin(h) >= 0) w += 0.5 * oppositeCot(mesh, mesh.twin(h));
-    return std::max(w, 1e-6);
-}
 
 Vec3 centroid(const Mesh &mesh, int f) {
     const Face &t = mesh.face(f);
@@ -200,7 +182,7 @@ void relaxFree(const TangentFrames &frames, int nSym, const std::vector<int> &fr
         double diag = 0;
         for (const int *it = mesh.outgoingBegin(i); it != mesh.outgoingEnd(i); ++it) {
             const int h = *it, j = mesh.head(h);
-            const double w = cotanWeight(mesh, mesh.edgeOf(h));
+            const double w = cotanEdgeWeight(mesh, mesh.edgeOf(h));
             const Complex r = std::polar(1.0, nSym * frames.transportAngle(h)); // j -> i
             diag += w;
             const int lj = localId[j];

@@ -17,6 +17,13 @@ double oppositeCot(const Mesh &mesh, int h) {
 }
 } // namespace
 
+double cotanEdgeWeight(const Mesh &mesh, int e) {
+    const int h = mesh.edgeHalfedge(e);
+    double w = 0.5 * oppositeCot(mesh, h);
+    if (mesh.twin(h) >= 0) w += 0.5 * oppositeCot(mesh, mesh.twin(h));
+    return std::max(w, 1e-6);
+}
+
 SparseMatrixC connectionLaplacian(const TangentFrames &frames, int nSym) {
     const Mesh &mesh = frames.mesh();
     std::vector<Eigen::Triplet<Complex>> trip;
@@ -24,9 +31,7 @@ SparseMatrixC connectionLaplacian(const TangentFrames &frames, int nSym) {
     std::vector<double> diag(mesh.nVertices(), 0.0);
     for (int e = 0; e < mesh.nEdges(); ++e) {
         const int h = mesh.edgeHalfedge(e);
-        double w = 0.5 * oppositeCot(mesh, h);
-        if (mesh.twin(h) >= 0) w += 0.5 * oppositeCot(mesh, mesh.twin(h));
-        w = std::max(w, 1e-6);
+        const double w = cotanEdgeWeight(mesh, e);
         const int i = mesh.tail(h), j = mesh.head(h);
         const Complex r = std::polar(1.0, nSym * frames.transportAngle(h)); // j -> i
         trip.emplace_back(i, j, -w * r);
@@ -60,9 +65,7 @@ Eigen::SparseMatrix<double> relaxationWeights(const Mesh &mesh, LaplaceWeights w
         std::vector<std::array<double, 3>> tmp;
         for (int e = 0; e < mesh.nEdges(); ++e) {
             const int h = mesh.edgeHalfedge(e);
-            double w = 0.5 * oppositeCot(mesh, h);
-            if (mesh.twin(h) >= 0) w += 0.5 * oppositeCot(mesh, mesh.twin(h));
-            w = std::max(w, 1e-6);
+            const double w = cotanEdgeWeight(mesh, e);
             tmp.push_back({double(mesh.tail(h)), double(mesh.head(h)), w});
             rowSum[mesh.tail(h)] += w;
             rowSum[mesh.head(h)] += w;

@@ -22,6 +22,10 @@ enum class LaplaceWeights {
     Cotan,
 };
 
+/// Cotangent weight of edge e, (cot α + cot β) / 2 with each cotangent clamped to
+/// [−1e4, 1e4] and the result floored at 1e-6 (see LaplaceWeights::Cotan).
+double cotanEdgeWeight(const Mesh &mesh, int e);
+
 /// Hermitian positive semi-definite connection Laplacian A (#V × #V) of the
 /// Dirichlet energy Σ_edges w_ij |u_i − e^{iNΔθ_ij} u_j|² (cotan weights).
 SparseMatrixC connectionLaplacian(const TangentFrames &frames, int nSym);
