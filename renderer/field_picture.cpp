@@ -197,6 +197,9 @@ Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &fr
         so.maxLength = std::max(options.streamlineLengthRelative, 1e-4) * diagonal;
         so.bothDirections = true;
         so.maxSteps = 2000;
+        // Long steps (edge crossings still cut them): these short lines only need to
+        // look right, and the tracer's default half-edge step dominates the cost.
+        so.stepLength = std::max(mesh.meanEdgeLength(), 0.125 * so.maxLength);
         std::vector<std::vector<field::Vec3>> lines(seeds.size() * size_t(nMembers));
         parallelFor(0, int64_t(seeds.size()), [&](int64_t s) {
             const int f = seeds[size_t(s)];
@@ -212,7 +215,8 @@ Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &fr
                 lines[size_t(s) * size_t(nMembers) + size_t(k)] = std::move(line.points);
             }
         }, 16);
-        const double half = 0.5 * options.streamlineWidthPx * sizeScale;
+        // Below ~0.8 px a line fades into the shading at small resolutions.
+        const double half = std::max(0.5 * options.streamlineWidthPx * sizeScale, 0.4);
         for (const auto &pts : lines) drawPolyline(streamLayer, pts, camera, vis, half);
     }
 
@@ -235,7 +239,7 @@ Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &fr
     }
 
     auto darker = [](const Rgb &c) { return Rgb{0.45f * c[0], 0.45f * c[1], 0.45f * c[2]}; };
-    composite(rgb, streamLayer, options.streamlineColor, 0.8f);
+    composite(rgb, streamLayer, options.streamlineColor, 0.9f);
     composite(rgb, outgoing, options.outgoingColor, 1.0f);
     composite(rgb, incoming, options.incomingColor, 1.0f);
     composite(rgb, rim, Rgb{0, 0, 0}, 1.0f);

@@ -39,14 +39,14 @@ struct FieldPictureOptions {
     /// Line widths and dot radius in pixels for a 1024-pixel image side; scaled with
     /// min(width, height) / 1024 so pictures look alike at any resolution.
     double streamlineWidthPx = 1.0;
-    double separatrixWidthPx = 2.2;
+    double separatrixWidthPx = 2.5;
     double dotRadiusPx = 4.5;
     /// Lights for the shading; empty: one headlight from slightly above-left of the camera.
     std::vector<Light> lights;
     Rgb streamlineColor{0.08f, 0.08f, 0.08f};
     Rgb positiveColor{0.9f, 0.03f, 0.02f};
     Rgb negativeColor{0.02f, 0.12f, 0.95f};
-    Rgb outgoingColor{0.02f, 0.55f, 0.06f};
+    Rgb outgoingColor{0.0f, 0.42f, 0.04f};
     Rgb incomingColor{1.0f, 0.38f, 0.0f};
 };
 

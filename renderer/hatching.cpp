@@ -13,11 +13,15 @@ namespace rosy::renderer {
 namespace {
 
 constexpr double kCos45 = 0.70710678118654752;
-/// The tracer treats lines within 50° as the same family, a margin over the 45° the
-/// measurement uses, so tangents estimated differently (samples vs chords) near the
-/// 45° border cannot turn an accepted crossing into a counted violation.
-constexpr double kCos50 = 0.64278760968653933;
-constexpr double kCos30 = 0.86602540378443865;
+/// The tracer treats lines within 55° as the same family, a margin over the 45° the
+/// measurement uses: a sample's tangent is its incoming step while the measurement
+/// takes central chords, which differ by up to half a step's turn (6°), and a line
+/// ending near another may be judged from either side.
+constexpr double kSameFamilyCos = 0.57357643635104609;
+/// Largest turn of a stroke in one integration step (0.2 d_sep): 12°. Sharper turns
+/// happen where the field swirls (singularities, label noise); stopping there keeps
+/// strokes straight and keeps a sample's tangent within a few degrees of its chords.
+constexpr double kMaxTurnCos = 0.97814760073380564;
 /// d_test / d_sep (Jobard & Lefer 1997; keithfma and anvaka use the same ratio).
 constexpr double kTestRatio = 0.5;
 /// Integration step as a fraction of d_sep, and its bounds in px: the upper bound
@@ -66,6 +70,7 @@ struct Sample {
     double arc; // arc length along its stroke from the seed (negative backwards)
     int stroke;
     int family;
+    double dTest; // d_test at the sample's own pixel
 };
 
 /// Uniform grid over the image holding sample indices. Samples are only appended
@@ -75,15 +80,45 @@ class SampleGrid {
 public:
     SampleGrid(int width, int height, double cellPx)
         : m_cell(cellPx), m_nx(std::max(1, int(std::ceil(width / cellPx)))),
-          m_ny(std::max(1, int(std::ceil(height / cellPx)))), m_cells(size_t(m_nx) * size_t(m_ny)) {}
+          m_ny(std::max(1, int(std::ceil(height / cellPx)))), m_cells(size_t(m_nx) * size_t(m_ny)),
+          m_cellMaxR(m_cells.size(), 0.0) {}
 
     void add(const Sample &s) {
-        m_cells[cellOf(s.p)].push_back(int(m_samples.size()));
+        const size_t c = cellOf(s.p);
+        m_cells[c].push_back(int(m_samples.size()));
         m_samples.push_back(s);
+        // Maxima only grow: after a rejected stroke is popped they stay an upper
+        // bound, which is all anyWithin() needs.
+        m_cellMaxR[c] = std::max(m_cellMaxR[c], s.dTest);
+        m_maxR = std::max(m_maxR, s.dTest);
     }
     void popBack() {
         m_cells[cellOf(m_samples.back().p)].pop_back();
         m_samples.pop_back();
+    }
+
+    /// Calls f(sample) for every sample that may lie within max(r, sample.dTest) of p,
+    /// until f returns true. Cells whose samples all have a small d_test are pruned by
+    /// their distance, so a wide query radius only costs where large d_test exist.
+    template <typename F> bool anyWithin(const Vec2 &p, double r, F &&f) const {
+        const double big = std::max(r, m_maxR);
+        const int x0 = std::max(0, int(std::floor((p.x() - big) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + big) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - big) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + big) / m_cell)));
+        for (int cy = y0; cy <= y1; ++cy) {
+            const double dy = std::max({0.0, cy * m_cell - p.y(), p.y() - (cy + 1) * m_cell});
+            for (int cx = x0; cx <= x1; ++cx) {
+                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
+                if (m_cells[c].empty()) continue;
+                const double dx = std::max({0.0, cx * m_cell - p.x(), p.x() - (cx + 1) * m_cell});
+                const double reach = std::max(r, m_cellMaxR[c]);
+                if (dx * dx + dy * dy >= reach * reach) continue;
+                for (int i : m_cells[c])
+                    if (f(m_samples[size_t(i)])) return true;
+            }
+        }
+        return false;
     }
     const std::vector<Sample> &samples() const { return m_samples; }
 
@@ -109,6 +144,8 @@ private:
     double m_cell;
     int m_nx, m_ny;
     std::vector<std::vector<int>> m_cells;
+    std::vector<double> m_cellMaxR; // upper bound of the samples' d_test per cell
+    double m_maxR = 0;
     std::vector<Sample> m_samples;
 };
 
@@ -211,12 +248,15 @@ private:
     /// Same family = tangent within 45° (mod π); where only one family is wanted,
     /// every family-0 sample counts for family 0, so mid-tones never cross.
     bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
-        const double r2 = r * r, selfSkip = 2.0 * r;
-        return m_grid.any(q, r, [&](const Sample &s) {
-            if ((s.p - q).squaredNorm() >= r2) return false;
+        return m_grid.anyWithin(q, r, [&](const Sample &s) {
+            // The larger of the two points' d_test: measureHatches() takes the smaller at
+            // either end, so the tracer is never the more lenient where tone changes.
+            const double rr = std::max(r, s.dTest);
+            if ((s.p - q).squaredNorm() >= rr * rr) return false;
+            const double selfSkip = 2.0 * rr;
             if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
-            if (std::abs(s.t.dot(t)) >= kCos50) return true;
-            return singleTone && m_family == 0 && s.family == 0;
+            if (std::abs(s.t.dot(t)) >= kSameFamilyCos) return true;
+            return s.family == m_family || (singleTone && s.family == 0);
         });
     }
 
@@ -313,18 +353,18 @@ private:
             if (ip < 0) break;
             const double step = std::clamp(kStepRatio * spacingAt(ip), kMinStepPx, kMaxStepPx);
             Vec2 v1, v2;
-            if (!direction(p, h, v1) || v1.dot(h) < kCos30) break;
+            if (!direction(p, h, v1) || v1.dot(h) < kMaxTurnCos) break;
             const Vec2 pm = p + 0.5 * step * v1;
             const int im = pixelIndex(pm);
             if (im < 0 || m_blocked[size_t(im)]) break;
-            if (!direction(pm, v1, v2) || v2.dot(h) < kCos30) break; // sharp turn: near a singularity
+            if (!direction(pm, v1, v2) || v2.dot(h) < kMaxTurnCos) break; // sharp turn: near a singularity
             const Vec2 q = p + step * v2;
             if (!eligible(q)) break;
             const int iq = pixelIndex(q);
             const double r = kTestRatio * spacingAt(iq);
             if (tooClose(q, v2, r, stroke, sign * (arc + step), singleTone(iq))) break;
             arc += step;
-            Sample s{q, v2, sign * arc, stroke, m_family};
+            Sample s{q, v2, sign * arc, stroke, m_family, r};
             m_grid.add(s);
             out.push_back(s);
             p = q;
@@ -335,7 +375,7 @@ private:
     bool traceStroke(const Vec2 &seed, const Vec2 &dir) {
         const int id = int(m_strokes.size());
         const size_t before = m_grid.samples().size();
-        Sample s0{seed, dir, 0.0, id, m_family};
+        Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
         m_grid.add(s0);
         std::vector<Sample> fwd, bwd;
         extend(seed, dir, 1.0, id, fwd);

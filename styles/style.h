@@ -15,18 +15,18 @@ using Rgb = std::array<double, 3>;
 /// How hatches turn tone into ink. Densities are ink coverage in [0, 1]
 /// (0 = white paper, 1 = solid ink); lengths are pixels of the render resolution.
 struct HatchStyle {
-    double strokeWidthPx = 1.3;     ///< nominal hatch line width
-    double minSpacingPx = 2.6;      ///< densest spacing between parallel hatches (two families then cover 75%)
+    double strokeWidthPx = 1.4;     ///< nominal hatch line width
+    double minSpacingPx = 2.5;      ///< densest spacing between parallel hatches (two families then cover 80%)
     double maxSpacingPx = 24.0;     ///< sparsest spacing (lightest hatched tone)
     double highlightDensity = 0.1;  ///< below this target density: no hatching (paper shows)
     double crossDensity = 0.45;     ///< above this: the second family (cross-hatching) is added
     double toneGamma = 1.6;         ///< target density = (1 − tone)^gamma; > 1 opens up the lit side
-    double taper = 0.25;            ///< fraction of a stroke's length over which its ends thin out
+    double taper = 0.12;            ///< fraction of a stroke's length over which its ends thin out
     double pressureVariation = 0.2; ///< relative width variation along a stroke (smooth noise)
     double jitterPx = 0.0;          ///< positional wobble amplitude
     double angleOffsetDeg = 0.0;    ///< rotates hatch directions on screen
     double spacingJitter = 0.0;     ///< relative random variation of seed spacing
-    double minLengthPx = 8.0;       ///< shorter strokes are dropped
+    double minLengthPx = 12.0;      ///< shorter strokes are dropped
 };
 
 /// Outline strokes.
