@@ -157,6 +157,26 @@ TEST(Hatching, PlaneAt45DegreesHasStyleSpacing) {
     EXPECT_NEAR(sum / double(ys.size() - 1) / dSep, 1.0, 0.05);
 }
 
+TEST(Hatching, NoSpacingViolationsAcrossAToneStep) {
+    // A step from one family (light) to cross-hatching (dark) makes d_test jump
+    // between neighbouring pixels; the measurement then takes the smaller d_test,
+    // the tracer must keep away by the larger one.
+    Scene s = tiltedPlane(192);
+    styles::HatchStyle st;
+    std::vector<float> density(s.gbuffer.nPixels(), 0.0f);
+    for (int y = 0; y < s.gbuffer.height; ++y)
+        for (int x = 0; x < s.gbuffer.width; ++x)
+            density[size_t(s.gbuffer.index(x, y))] = x < 96 ? 0.15f : 0.7f;
+    ASSERT_EQ(hatchFamilies(0.15, st), 1);
+    ASSERT_EQ(hatchFamilies(0.7, st), 2);
+    HatchReport report;
+    traceHatches(s.screen, density, s.gbuffer, st, 3, &report);
+    ASSERT_GT(report.strokesFamily0, 5);
+    ASSERT_GT(report.strokesFamily1, 2);
+    EXPECT_EQ(report.minSpacingViolations, 0);
+    EXPECT_EQ(report.strokesNearSingularities, 0);
+}
+
 TEST(Hatching, CylinderHatchesFollowRulingsAndCircles) {
     Scene s = cylinder(160);
     styles::HatchStyle st;
