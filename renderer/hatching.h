@@ -13,8 +13,10 @@
 /// Families. Family 0 hatches wherever density >= highlightDensity, family 1 where
 /// density >= crossDensity, along the other screen direction. Because a cross field
 /// has no global labels, "same family" is decided by direction: a line keeps away
-/// only from samples whose tangent is within 45° of its own heading (plus, where the
-/// tone asks for a single family, from every family-0 sample, so mid-tones do not cross).
+/// from samples whose tangent is within 55° of its own heading (a margin over the 45°
+/// measureHatches() uses), from every sample of its own family (so each family's layer
+/// never crosses itself), and where the tone asks for a single family from every
+/// family-0 sample. The keep-away distance is the larger d_test of the two points.
 
 #include "renderer/gbuffer.h"
 #include "renderer/screen_field.h"
@@ -62,7 +64,7 @@ double localSpacingPx(double density, const styles::HatchStyle &style);
 ///   (seed, stroke id), so it does not depend on thread count.
 /// \param report optional; filled with counts and measureHatches() results.
 /// Strokes also stop at the edge of their tone band, where the line turns by more
-/// than 30° in one step, when they would come within d_test of a same-direction line,
+/// than 12° in one step, when they would come within d_test of a same-direction line,
 /// and at the disc of radius d_sep around each visible singularity. Strokes shorter
 /// than minLengthPx are dropped. Tracing is sequential (Jobard–Lefer is order
 /// dependent); the output is identical for any thread count. Stroke ids follow
