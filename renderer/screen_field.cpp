@@ -72,45 +72,43 @@ Vec3 memberDirection(const field::TangentFrames &frames, int f, field::Complex u
 
 } // namespace
 
-bool ScreenField::lineNear(const Vec2 &p, const Vec2 &heading, Vec2 &dir) const {
+// Bilinear average of the line directions pick(i) of the valid pixels around p,
+// in the doubled-angle representation (a line direction and its opposite agree).
+// Returns false where no valid pixel contributes or the directions cancel.
+template <typename Pick>
+static bool sampleLines(const ScreenField &field, const Vec2 &p, Pick &&pick, Vec2 &dir) {
     const Footprint fp = footprint(p);
     Vec2 sum = Vec2::Zero();
     double wSum = 0;
     for (int k = 0; k < 4; ++k) {
         const int x = fp.x0 + (k & 1), y = fp.y0 + (k >> 1);
-        if (!isValid(x, y)) continue;
+        if (!field.isValid(x, y)) continue;
         const double w = ((k & 1) ? fp.fx : 1 - fp.fx) * ((k >> 1) ? fp.fy : 1 - fp.fy);
         if (w <= 0) continue;
-        const size_t i = size_t(index(x, y));
-        // Per pixel the heading chooses the direction, so label swaps between
-        // neighbouring pixels (cross fields have no global labels) do not mix lines.
-        const double c0 = std::abs(heading.x() * dir0[i].x() + heading.y() * dir0[i].y());
-        const double c1 = std::abs(heading.x() * dir1[i].x() + heading.y() * dir1[i].y());
-        sum += w * doubled(c0 >= c1 ? dir0[i] : dir1[i]);
+        sum += w * doubled(pick(size_t(field.index(x, y))));
         wSum += w;
     }
     if (!(wSum > 1e-12)) return false;
+    return undouble(sum, dir);
+}
+
+bool ScreenField::lineNear(const Vec2 &p, const Vec2 &heading, Vec2 &dir) const {
+    // Per pixel the heading chooses the direction, so label swaps between
+    // neighbouring pixels (cross fields have no global labels) do not mix lines.
+    auto closest = [&](size_t i) -> const Eigen::Vector2f & {
+        const double c0 = std::abs(heading.x() * dir0[i].x() + heading.y() * dir0[i].y());
+        const double c1 = std::abs(heading.x() * dir1[i].x() + heading.y() * dir1[i].y());
+        return c0 >= c1 ? dir0[i] : dir1[i];
+    };
     Vec2 d;
-    if (!undouble(sum, d)) return false;
+    if (!sampleLines(*this, p, closest, d)) return false;
     dir = d.dot(heading) < 0 ? Vec2(-d) : d;
     return true;
 }
 
 bool ScreenField::lineOfFamily(const Vec2 &p, int family, Vec2 &dir) const {
     const std::vector<Eigen::Vector2f> &d = family == 0 ? dir0 : dir1;
-    const Footprint fp = footprint(p);
-    Vec2 sum = Vec2::Zero();
-    double wSum = 0;
-    for (int k = 0; k < 4; ++k) {
-        const int x = fp.x0 + (k & 1), y = fp.y0 + (k >> 1);
-        if (!isValid(x, y)) continue;
-        const double w = ((k & 1) ? fp.fx : 1 - fp.fx) * ((k >> 1) ? fp.fy : 1 - fp.fy);
-        if (w <= 0) continue;
-        sum += w * doubled(d[size_t(index(x, y))]);
-        wSum += w;
-    }
-    if (!(wSum > 1e-12)) return false;
-    return undouble(sum, dir);
+    return sampleLines(*this, p, [&](size_t i) -> const Eigen::Vector2f & { return d[i]; }, dir);
 }
 
 ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrames &frames,
