@@ -26,6 +26,9 @@ void addFieldCommand(CLI::App &app, Action &action);
 /// Adds `rosyhatch inspect RENDER.exr [--json OUT]` (quality measures of a rendering).
 void addInspectCommand(CLI::App &app, Action &action);
 
+/// Adds `rosyhatch styles` (the style presets with their descriptions).
+void addStylesCommand(CLI::App &app, Action &action);
+
 /// Options every working subcommand shares.
 struct CommonOptions {
     int threads = 0;         ///< 0 = all cores

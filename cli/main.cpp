@@ -22,6 +22,7 @@ int main(int argc, char **argv) {
     rosy::cli::addRenderCommand(app, action);
     rosy::cli::addFieldCommand(app, action);
     rosy::cli::addInspectCommand(app, action);
+    rosy::cli::addStylesCommand(app, action);
 
     try {
         app.parse(argc, argv);

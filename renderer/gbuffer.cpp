@@ -10,11 +10,14 @@ GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Came
     g.width = camera.width();
     g.height = camera.height();
     size_t n = g.nPixels();
-    g.faceId.assign(n, -1);
-    g.barycentric.assign(n, Vec2::Zero());
-    g.position.assign(n, Vec3::Zero());
-    g.normal.assign(n, Vec3::Zero());
-    g.depth.assign(n, 0.0);
+    // Sized but not filled here: every pixel is written once in the parallel loop
+    // below (misses too), so the first touch of these ~76 MB at 1024² is spread
+    // over the threads instead of a serial fill.
+    g.faceId.resize(n);
+    g.barycentric.resize(n);
+    g.position.resize(n);
+    g.normal.resize(n);
+    g.depth.resize(n);
 
     // Vertex normals once, not three times per pixel.
     std::vector<Vec3> vertexNormals(size_t(mesh.nVertices()));
@@ -26,9 +29,16 @@ GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Came
             for (int x = 0; x < g.width; ++x) {
                 Ray ray = camera.generateRay(x + 0.5, double(y) + 0.5);
                 Hit hit = scene.intersect(ray);
-                if (!hit.valid()) continue;
-                ROSY_CHECK_LT(hit.faceId, mesh.nFaces());
                 size_t i = size_t(g.index(x, int(y)));
+                if (!hit.valid()) {
+                    g.faceId[i] = -1;
+                    g.barycentric[i] = Vec2::Zero();
+                    g.position[i] = Vec3::Zero();
+                    g.normal[i] = Vec3::Zero();
+                    g.depth[i] = 0.0;
+                    continue;
+                }
+                ROSY_CHECK_LT(hit.faceId, mesh.nFaces());
                 const field::Face &f = mesh.face(hit.faceId);
                 double w0 = 1.0 - hit.u - hit.v;
                 g.faceId[i] = hit.faceId;

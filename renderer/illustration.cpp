@@ -1,6 +1,7 @@
 #include "renderer/illustration.h"
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "renderer/embree_scene.h"
 
 #include <chrono>
@@ -21,11 +22,14 @@ Illustration renderIllustration(const IllustrationInput &in) {
     ROSY_CHECK(in.mesh && in.frames && in.field && in.scene && in.camera);
     const Camera &camera = *in.camera;
     Illustration out;
+    // One bar over the six stages; it only shows on a terminal after about a second.
+    Progress progress("rendering", 6);
     auto t0 = Clock::now();
     auto lap = [&](const char *stage) {
         auto t = Clock::now();
         out.timingsMs.emplace_back(stage, std::chrono::duration<double, std::milli>(t - t0).count());
         t0 = t;
+        progress.advance();
     };
     out.gbuffer = renderGBuffer(*in.scene, *in.mesh, camera);
     lap("gbuffer");
@@ -56,6 +60,7 @@ Illustration renderIllustration(const IllustrationInput &in) {
     out.layers = rasterizeStrokes(out.strokes);
     out.composite = compositeInk(out.layers, in.style);
     lap("raster");
+    progress.finish();
     return out;
 }
 

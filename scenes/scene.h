@@ -108,6 +108,49 @@ struct AppliedEdit {
 std::vector<AppliedEdit> applyFieldEdits(const field::TangentFrames &frames, field::RosyField &rosyField,
                                          const std::vector<FieldEditDesc> &edits);
 
+/// The scene's `style:` block resolved to one Style. Values come, lowest priority
+/// first, from the Style defaults, the preset (if any) and the block's own keys.
+struct StyleDesc {
+    /// `preset:` as written (a preset name or a path to a YAML file), if given.
+    std::optional<Located<std::string>> preset;
+    /// The preset file that was read (empty without a preset).
+    std::string presetPath;
+    /// The resolved style.
+    styles::Style style;
+    /// Dotted key (e.g. "hatch.stroke_width_px") -> where its value was set: the
+    /// preset file or the scene. Keys left at their defaults are absent.
+    std::map<std::string, FileLoc> setAt;
+    FileLoc loc;
+};
+
+/// One style preset found on disk.
+struct StylePreset {
+    std::string name;        ///< file stem, used as `preset: NAME`
+    std::string description; ///< the file's one-line `description`
+    std::string path;        ///< the file
+};
+
+/// Folders searched for `preset: NAME`, in order: $ROSY_STYLES_PATH (colon-separated),
+/// the source tree's styles/presets (fixed at build time), and
+/// <executable>/../share/rosyhatch/styles. Folders that do not exist are left out.
+std::vector<std::string> styleSearchDirs();
+
+/// Every preset (`*.yaml` in styleSearchDirs()), sorted by name; a name found in
+/// several folders is taken from the first. Each file is parsed and validated.
+/// 	hrows InputError `FILE:LINE:COL` for an invalid preset file; IoError if unreadable.
+std::vector<StylePreset> listStylePresets();
+
+/// Reads and validates one preset file (the keys of a `style:` block except
+/// `preset`, plus a required one-line `description`) on top of the Style defaults.
+/// \param setAt  if given, receives the dotted key -> location of each value set.
+/// 	hrows IoError if the file cannot be read; InputError `FILE:LINE:COL` for bad content.
+styles::Style loadStylePreset(const std::string &path, std::string *description = nullptr,
+                              std::map<std::string, FileLoc> *setAt = nullptr);
+
+/// Every dotted key a `style:` block or preset file accepts (besides `preset` and
+/// `description`), e.g. "ambient", "hatch.taper", "contour.width_px".
+std::vector<std::string> styleKeys();
+
 struct SceneDesc {
     /// The scene file as given (used in every message).
     std::string path;
@@ -117,9 +160,8 @@ struct SceneDesc {
     bool lightsGiven = false;
     std::vector<LightDesc> lights;
     Located<bool> shadows{true, {}};
-    Located<styles::Rgb> paper{{1.0, 1.0, 1.0}, {}};
-    Located<styles::Rgb> ink{{0.0, 0.0, 0.0}, {}};
-    Located<double> ambient{0.15, {}};
+    /// The `style:` block: defaults, then the preset, then inline overrides.
+    StyleDesc style;
     /// Output image path (relative to the working directory, as given); default:
     /// the scene file's stem + ".png".
     Located<std::string> output;

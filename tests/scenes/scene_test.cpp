@@ -73,8 +73,8 @@ TEST(ParseScene, ValidSceneWithEveryKey) {
     EXPECT_EQ(d.lights[1].light.position, Vec3(2, 3, 4));
     EXPECT_EQ(d.lights[1].light.intensity, 1.0);
     EXPECT_FALSE(d.shadows.value);
-    EXPECT_EQ(d.ambient.value, 0.3);
-    EXPECT_EQ(d.ink.value[2], 0.2);
+    EXPECT_EQ(d.style.style.ambient, 0.3);
+    EXPECT_EQ(d.style.style.ink[2], 0.2);
     EXPECT_EQ(d.output.value, "out.exr");
 }
 
@@ -304,4 +304,143 @@ TEST(ApplyFieldEdits, RenumbersBetweenEditsAndNamesTheFailingEntry) {
     } catch (const rosy::InputError &e) {
         EXPECT_TRUE(startsWith(e.what(), "s.yaml:6:7: error: singularity #0 does not exist")) << e.what();
     }
+}
+
+// ---- style: presets and inline overrides ---------------------------------------
+
+namespace {
+
+/// Writes a preset file into the scene folder (so a path preset resolves).
+fs::path writePreset(const std::string &name, const std::string &text) {
+    fs::path p = sceneDir() / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+} // namespace
+
+TEST(StylePresets, EachShippedPresetParsesWithADescription) {
+    std::vector<StylePreset> presets = listStylePresets();
+    std::vector<std::string> names;
+    for (const StylePreset &p : presets) {
+        names.push_back(p.name);
+        EXPECT_FALSE(p.description.empty()) << p.name;
+        EXPECT_NO_THROW(loadStylePreset(p.path)) << p.name;
+    }
+    for (const char *want : {"engraving", "fine-pen", "sketch"})
+        EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
+}
+
+TEST(StylePresets, FinePenIsTheBuiltInDefault) {
+    // The brief defines fine-pen as the Style defaults written out.
+    for (const StylePreset &p : listStylePresets()) {
+        if (p.name != "fine-pen") continue;
+        rosy::styles::Style s = loadStylePreset(p.path), d;
+        EXPECT_EQ(s.hatch.strokeWidthPx, d.hatch.strokeWidthPx);
+        EXPECT_EQ(s.hatch.crossDensity, d.hatch.crossDensity);
+        EXPECT_EQ(s.contour.widthPx, d.contour.widthPx);
+        EXPECT_EQ(s.ambient, d.ambient);
+        return;
+    }
+    FAIL() << "fine-pen preset not found";
+}
+
+TEST(ParseScene, StylePresetValuesReachTheScene) {
+    SceneDesc d = parseScene("mesh: thing.off\nstyle: {preset: engraving}\n", scenePath());
+    ASSERT_TRUE(d.style.preset.has_value());
+    EXPECT_EQ(d.style.preset->value, "engraving");
+    EXPECT_EQ(fs::path(d.style.presetPath).filename(), "engraving.yaml");
+    // Values written in styles/presets/engraving.yaml.
+    EXPECT_EQ(d.style.style.hatch.strokeWidthPx, 2.4);
+    EXPECT_EQ(d.style.style.hatch.crossDensity, 0.78);
+    EXPECT_EQ(d.style.style.hatch.minLengthPx, 40.0);
+    EXPECT_EQ(d.style.setAt.at("hatch.stroke_width_px").path, d.style.presetPath);
+}
+
+TEST(ParseScene, InlineStyleOverridesWinOverThePreset) {
+    // The override comes before the preset in the file: order must not matter.
+    SceneDesc d = parseScene("mesh: thing.off\n"
+                             "style:\n"
+                             "  hatch: {stroke_width_px: 0.7, jitter_px: 2}\n"
+                             "  preset: engraving\n"
+                             "  seed: 42\n"
+                             "  contour: {hidden: true}\n",
+                             scenePath());
+    EXPECT_EQ(d.style.style.hatch.strokeWidthPx, 0.7);
+    EXPECT_EQ(d.style.style.hatch.jitterPx, 2.0);
+    EXPECT_EQ(d.style.style.hatch.crossDensity, 0.78); // still the preset's
+    EXPECT_EQ(d.style.style.seed, 42u);
+    EXPECT_TRUE(d.style.style.contour.hidden);
+    FileLoc w = d.style.setAt.at("hatch.stroke_width_px");
+    EXPECT_EQ(w.path, scenePath());
+    EXPECT_EQ(w.line, 3);
+    EXPECT_EQ(w.col, 28);
+}
+
+TEST(ParseScene, StylePresetByPathResolvesAgainstTheSceneFolder) {
+    writePreset("mine.yaml", "description: test preset\nhatch: {taper: 0.4}\n");
+    SceneDesc d = parseScene("mesh: thing.off\nstyle: {preset: mine.yaml, ambient: 0.5}\n", scenePath());
+    EXPECT_EQ(d.style.style.hatch.taper, 0.4);
+    EXPECT_EQ(d.style.style.ambient, 0.5);
+    rosy::renderer::ShadingOptions unused;
+    (void)unused;
+}
+
+TEST(ParseScene, UnknownStylePresetListsThePresets) {
+    std::string e = errorOf("mesh: thing.off\nstyle: {preset: engravng}\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:17: error: unknown style preset 'engravng'")) << e;
+    EXPECT_TRUE(contains(e, "did you mean 'engraving'?")) << e;
+    EXPECT_TRUE(contains(e, "sketch")) << e;
+    std::string far = errorOf("mesh: thing.off\nstyle: {preset: watercolour}\n");
+    EXPECT_TRUE(contains(far, "fine-pen")) << far;
+}
+
+TEST(ParseScene, UnknownStyleKeySuggestsTheNearestOne) {
+    std::string e = errorOf("mesh: thing.off\nstyle:\n  hatch:\n    stroke_widht_px: 2\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":4:5: error: unknown key 'stroke_widht_px' in style.hatch")) << e;
+    EXPECT_TRUE(contains(e, "did you mean 'stroke_width_px'?")) << e;
+    std::string top = errorOf("mesh: thing.off\nstyle: {presett: sketch}\n");
+    EXPECT_TRUE(startsWith(top, scenePath() + ":2:9: error: unknown key 'presett' in style")) << top;
+    EXPECT_TRUE(contains(top, "did you mean 'preset'?")) << top;
+}
+
+TEST(ParseScene, OutOfRangeStyleValuesPointAtTheValue) {
+    std::string w = errorOf("mesh: thing.off\nstyle: {hatch: {stroke_width_px: -1}}\n");
+    EXPECT_TRUE(startsWith(w, scenePath() + ":2:34: error: style.hatch.stroke_width_px must be in")) << w;
+    std::string dens = errorOf("mesh: thing.off\nstyle:\n  hatch:\n    cross_density: 1.5\n");
+    EXPECT_TRUE(startsWith(dens, scenePath() + ":4:20: error: style.hatch.cross_density must be in [0, 1]")) << dens;
+    std::string seed = errorOf("mesh: thing.off\nstyle: {seed: -3}\n");
+    EXPECT_TRUE(startsWith(seed, scenePath() + ":2:15: error: style.seed must be a whole number")) << seed;
+    std::string group = errorOf("mesh: thing.off\nstyle: {contour: 3}\n");
+    EXPECT_TRUE(startsWith(group, scenePath() + ":2:18: error: style.contour must be a map")) << group;
+}
+
+TEST(ParseScene, InconsistentSpacingsAreAnError) {
+    std::string e = errorOf("mesh: thing.off\nstyle: {hatch: {min_spacing_px: 8, max_spacing_px: 4}}\n");
+    EXPECT_TRUE(contains(e, "hatch.max_spacing_px (4) is below hatch.min_spacing_px (8)")) << e;
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:")) << e;
+}
+
+TEST(ParseScene, BadPresetFileErrorsPointIntoThePresetFile) {
+    fs::path bad = writePreset("bad-preset.yaml", "description: broken\nhatch:\n  taper: 0.9\n");
+    std::string e = errorOf("mesh: thing.off\nstyle: {preset: bad-preset.yaml}\n");
+    EXPECT_TRUE(startsWith(e, bad.lexically_normal().string() + ":3:10: error: the style preset.hatch.taper must be in [0, 0.5]"))
+        << e;
+    writePreset("nodesc.yaml", "ambient: 0.2\n");
+    std::string nd = errorOf("mesh: thing.off\nstyle: {preset: nodesc.yaml}\n");
+    EXPECT_TRUE(contains(nd, "has no description")) << nd;
+    std::string missing = errorOf("mesh: thing.off\nstyle: {preset: ./nope.yaml}\n");
+    EXPECT_TRUE(startsWith(missing, scenePath() + ":2:17: error: style preset file")) << missing;
+}
+
+TEST(StyleKeys, CoverEveryDocumentedGroup) {
+    std::vector<std::string> keys = styleKeys();
+    // Style has 5 top-level values, HatchStyle 12 fields, ContourStyle 5 (style.h).
+    EXPECT_EQ(keys.size(), 5u + 12u + 5u);
+    std::string readme;
+    {
+        std::ifstream in(std::string(ROSY_SOURCE_DIR) + "/scenes/README.md");
+        readme.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    for (const std::string &k : keys) EXPECT_TRUE(contains(readme, "`" + k + "`")) << k << " not documented";
 }

@@ -1,0 +1,403 @@
+/// \file plotter.cpp
+/// Merge, simplify and order strokes for a pen plotter (see plotter.h).
+
+#include "renderer/plotter.h"
+
+#include "core/error.h"
+#include "core/parallel.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+
+namespace rosy::renderer {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+double dist(const Vec2 &a, const Vec2 &b) { return (a - b).norm(); }
+
+void reverseStroke(Stroke &s) {
+    std::reverse(s.points.begin(), s.points.end());
+    std::reverse(s.widths.begin(), s.widths.end());
+}
+
+/// Sparse grid of stroke endpoints (endpoint 2i: start of stroke i, 2i+1: its end)
+/// for the merge, where only the 3×3 neighbourhood of a cell is ever queried.
+class SparseEndGrid {
+public:
+    SparseEndGrid(const std::vector<Stroke> &strokes, double cell) : m_cell(cell) {
+        for (size_t i = 0; i < strokes.size(); ++i) {
+            m_cells[key(strokes[i].points.front())].push_back(int(2 * i));
+            m_cells[key(strokes[i].points.back())].push_back(int(2 * i + 1));
+        }
+    }
+    /// Nearest endpoint of a free stroke within `tol` of p; ties go to the lowest id. -1 if none.
+    template <typename Free, typename PointOf>
+    int nearest(const Vec2 &p, double tol, Free &&isFree, PointOf &&pointOf) const {
+        const auto [cx, cy] = cellOf(p);
+        int best = -1;
+        double bestD = tol;
+        for (int64_t dy = -1; dy <= 1; ++dy)
+            for (int64_t dx = -1; dx <= 1; ++dx) {
+                auto it = m_cells.find(pack(cx + dx, cy + dy));
+                if (it == m_cells.end()) continue;
+                for (int e : it->second) {
+                    if (!isFree(e / 2)) continue;
+                    const double d = dist(p, pointOf(e));
+                    if (d < bestD || (d == bestD && (best < 0 || e < best))) {
+                        bestD = d;
+                        best = e;
+                    }
+                }
+            }
+        return best;
+    }
+
+private:
+    std::pair<int64_t, int64_t> cellOf(const Vec2 &p) const {
+        return {int64_t(std::floor(p.x() / m_cell)), int64_t(std::floor(p.y() / m_cell))};
+    }
+    static uint64_t pack(int64_t x, int64_t y) { return (uint64_t(uint32_t(int32_t(x))) << 32) | uint32_t(int32_t(y)); }
+    uint64_t key(const Vec2 &p) const {
+        const auto [x, y] = cellOf(p);
+        return pack(x, y);
+    }
+    double m_cell;
+    std::unordered_map<uint64_t, std::vector<int>> m_cells;
+};
+
+/// Dense uniform grid of endpoints for the greedy tour; endpoints are removed as
+/// their strokes are drawn, and the grid is rebuilt coarser as it empties so
+/// late queries do not walk thousands of empty cells.
+class DenseEndGrid {
+public:
+    explicit DenseEndGrid(const std::vector<Vec2> &ends) : m_ends(ends) {}
+
+    void build(const std::vector<int> &alive) {
+        Eigen::AlignedBox2d box;
+        for (int e : alive) box.extend(m_ends[e]);
+        m_origin = box.min();
+        const Vec2 size = (box.max() - box.min()).cwiseMax(1e-6);
+        // About two endpoints per cell.
+        m_cell = std::max(std::sqrt(size.x() * size.y() / std::max<double>(1, double(alive.size()) / 2)), 1e-6);
+        m_w = std::clamp(int(size.x() / m_cell) + 1, 1, 4096);
+        m_h = std::clamp(int(size.y() / m_cell) + 1, 1, 4096);
+        m_cell = std::max(size.x() / m_w, size.y() / m_h) * (1 + 1e-9) + 1e-12;
+        m_cells.assign(size_t(m_w) * m_h, {});
+        for (int e : alive) m_cells[cellIndex(m_ends[e])].push_back(e);
+        m_count = int(alive.size());
+        m_builtCount = m_count;
+    }
+
+    void remove(int e) {
+        auto &c = m_cells[cellIndex(m_ends[e])];
+        auto it = std::find(c.begin(), c.end(), e);
+        if (it == c.end()) return;
+        *it = c.back();
+        c.pop_back();
+        --m_count;
+    }
+
+    int count() const { return m_count; }
+    bool sparse() const { return m_count > 64 && m_count * 4 < m_builtCount; }
+
+    /// Nearest remaining endpoint to p (ties: lowest id); -1 when empty.
+    int nearest(const Vec2 &p) const {
+        if (m_count == 0) return -1;
+        const int cx = std::clamp(int(std::floor((p.x() - m_origin.x()) / m_cell)), 0, m_w - 1);
+        const int cy = std::clamp(int(std::floor((p.y() - m_origin.y()) / m_cell)), 0, m_h - 1);
+        int best = -1;
+        double bestD = std::numeric_limits<double>::infinity();
+        const int maxR = std::max(m_w, m_h);
+        for (int r = 0; r <= maxR; ++r) {
+            for (int y = cy - r; y <= cy + r; ++y) {
+                if (y < 0 || y >= m_h) continue;
+                const bool edgeRow = (y == cy - r || y == cy + r);
+                for (int x = cx - r; x <= cx + r; x += (edgeRow || r == 0) ? 1 : 2 * r) {
+                    if (x < 0 || x >= m_w) continue;
+                    for (int e : m_cells[size_t(y) * m_w + x]) {
+                        const double d = (m_ends[e] - p).squaredNorm();
+                        if (d < bestD || (d == bestD && e < best)) {
+                            bestD = d;
+                            best = e;
+                        }
+                    }
+                }
+            }
+            // Anything in ring r+1 or beyond is at least r cells away.
+            if (best >= 0 && std::sqrt(bestD) <= r * m_cell) break;
+        }
+        return best;
+    }
+
+private:
+    size_t cellIndex(const Vec2 &p) const {
+        const int cx = std::clamp(int(std::floor((p.x() - m_origin.x()) / m_cell)), 0, m_w - 1);
+        const int cy = std::clamp(int(std::floor((p.y() - m_origin.y()) / m_cell)), 0, m_h - 1);
+        return size_t(cy) * m_w + cx;
+    }
+    const std::vector<Vec2> &m_ends;
+    Vec2 m_origin = Vec2::Zero();
+    double m_cell = 1;
+    int m_w = 1, m_h = 1;
+    std::vector<std::vector<int>> m_cells;
+    int m_count = 0, m_builtCount = 0;
+};
+
+} // namespace
+
+bool removeDuplicatePoints(Stroke &stroke) {
+    const bool hasWidths = stroke.widths.size() == stroke.points.size();
+    std::vector<Vec2> pts;
+    std::vector<float> ws;
+    pts.reserve(stroke.points.size());
+    ws.reserve(stroke.points.size());
+    for (size_t i = 0; i < stroke.points.size(); ++i) {
+        const Vec2 &p = stroke.points[i];
+        if (!p.allFinite()) continue;
+        if (!pts.empty() && (pts.back() - p).squaredNorm() <= 1e-18) continue;
+        pts.push_back(p);
+        float w = hasWidths ? stroke.widths[i] : 1.0f;
+        ws.push_back(std::isfinite(w) ? std::max(w, 0.0f) : 0.0f);
+    }
+    if (pts.empty()) {
+        stroke.points.clear();
+        stroke.widths.clear();
+        return false;
+    }
+    if (pts.size() == 1) {
+        pts.push_back(pts.front());
+        ws.push_back(ws.front());
+    }
+    stroke.points = std::move(pts);
+    stroke.widths = std::move(ws);
+    return true;
+}
+
+void simplifyStroke(Stroke &stroke, double tolerancePx) {
+    const size_t n = stroke.points.size();
+    if (n <= 2 || !(tolerancePx > 0)) return;
+    const auto &p = stroke.points;
+    std::vector<char> keep(n, 0);
+    keep[0] = keep[n - 1] = 1;
+    // Explicit stack: recursion depth would follow the point count on a long spiral.
+    std::vector<std::pair<size_t, size_t>> stack{{0, n - 1}};
+    while (!stack.empty()) {
+        const auto [a, b] = stack.back();
+        stack.pop_back();
+        if (b <= a + 1) continue;
+        const Vec2 chord = p[b] - p[a];
+        const double len2 = chord.squaredNorm();
+        double worst = -1;
+        size_t worstI = a;
+        for (size_t i = a + 1; i < b; ++i) {
+            const Vec2 d = p[i] - p[a];
+            // A closed span (a == b in space) measures distance to the point itself.
+            double dd;
+            if (len2 <= 1e-18) {
+                dd = d.norm();
+            } else {
+                const double t = std::clamp(d.dot(chord) / len2, 0.0, 1.0);
+                dd = (d - t * chord).norm();
+            }
+            if (dd > worst) {
+                worst = dd;
+                worstI = i;
+            }
+        }
+        if (worst > tolerancePx) {
+            keep[worstI] = 1;
+            stack.push_back({a, worstI});
+            stack.push_back({worstI, b});
+        }
+    }
+    size_t k = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (keep[i]) {
+            stroke.points[k] = stroke.points[i];
+            stroke.widths[k] = stroke.widths[i];
+            ++k;
+        }
+    stroke.points.resize(k);
+    stroke.widths.resize(k);
+}
+
+std::vector<Stroke> mergeStrokes(std::vector<Stroke> strokes, double tolerancePx) {
+    if (!(tolerancePx > 0) || strokes.size() < 2) return strokes;
+    const int n = int(strokes.size());
+    SparseEndGrid grid(strokes, tolerancePx);
+    std::vector<char> used(n, 0);
+    auto isFree = [&](int s) { return !used[s]; };
+    auto pointOf = [&](int e) -> const Vec2 & {
+        const Stroke &s = strokes[e / 2];
+        return (e & 1) ? s.points.back() : s.points.front();
+    };
+    auto append = [](Stroke &dst, const Stroke &src) {
+        const size_t skip = (dst.points.back() - src.points.front()).squaredNorm() <= 1e-18 ? 1 : 0;
+        dst.points.insert(dst.points.end(), src.points.begin() + skip, src.points.end());
+        dst.widths.insert(dst.widths.end(), src.widths.begin() + skip, src.widths.end());
+    };
+
+    std::vector<Stroke> out;
+    out.reserve(strokes.size());
+    for (int i = 0; i < n; ++i) {
+        if (used[i]) continue;
+        used[i] = 1;
+        Stroke chain = std::move(strokes[i]);
+        // Grow at the tail, then at the head (by growing the reversed chain's tail).
+        for (int side = 0; side < 2; ++side) {
+            for (;;) {
+                const int e = grid.nearest(chain.points.back(), tolerancePx, isFree, pointOf);
+                if (e < 0) break;
+                used[e / 2] = 1;
+                Stroke next = std::move(strokes[e / 2]);
+                if (e & 1) reverseStroke(next);
+                append(chain, next);
+            }
+            reverseStroke(chain);
+        }
+        out.push_back(std::move(chain));
+    }
+    return out;
+}
+
+double penUpLength(const std::vector<Stroke> &strokes) {
+    Vec2 pen = Vec2::Zero();
+    double total = 0;
+    for (const Stroke &s : strokes) {
+        if (s.points.empty()) continue;
+        total += dist(pen, s.points.front());
+        pen = s.points.back();
+    }
+    return total;
+}
+
+double penDownLength(const std::vector<Stroke> &strokes) {
+    double total = 0;
+    for (const Stroke &s : strokes)
+        for (size_t i = 1; i < s.points.size(); ++i) total += dist(s.points[i - 1], s.points[i]);
+    return total;
+}
+
+std::vector<Stroke> sortStrokes(std::vector<Stroke> strokes, const PlotterOptions &options) {
+    const int n = int(strokes.size());
+    if (n < 2) return strokes;
+
+    // Greedy nearest end: from the pen, go to the closest free endpoint and draw
+    // its stroke from there (reversing it if that endpoint is its end).
+    std::vector<Vec2> ends(2 * size_t(n));
+    for (int i = 0; i < n; ++i) {
+        ends[2 * i] = strokes[i].points.front();
+        ends[2 * i + 1] = strokes[i].points.back();
+    }
+    DenseEndGrid grid(ends);
+    std::vector<int> alive(2 * size_t(n));
+    for (int e = 0; e < 2 * n; ++e) alive[e] = e;
+    grid.build(alive);
+    std::vector<char> drawn(n, 0);
+    std::vector<int> order;
+    std::vector<char> rev;
+    order.reserve(n);
+    rev.reserve(n);
+    Vec2 pen = Vec2::Zero();
+    while (grid.count() > 0) {
+        if (grid.sparse()) {
+            alive.clear();
+            for (int i = 0; i < n; ++i)
+                if (!drawn[i]) {
+                    alive.push_back(2 * i);
+                    alive.push_back(2 * i + 1);
+                }
+            grid.build(alive);
+        }
+        const int e = grid.nearest(pen);
+        ROSY_CHECK(e >= 0);
+        const int s = e / 2;
+        drawn[s] = 1;
+        grid.remove(2 * s);
+        grid.remove(2 * s + 1);
+        order.push_back(s);
+        rev.push_back(char(e & 1));
+        pen = (e & 1) ? ends[2 * s] : ends[2 * s + 1];
+    }
+
+    // Windowed 2-opt on the open tour. Reversing positions i..j (and each stroke
+    // in it) changes only the two travels at the run's borders:
+    //   old: |E(i-1) S(i)| + |E(j) S(j+1)|    new: |E(i-1) E(j)| + |S(i) S(j+1)|
+    std::vector<Vec2> S(n), E(n);
+    for (int k = 0; k < n; ++k) {
+        const int s = order[k];
+        S[k] = rev[k] ? ends[2 * s + 1] : ends[2 * s];
+        E[k] = rev[k] ? ends[2 * s] : ends[2 * s + 1];
+    }
+    const int window = std::max(1, options.twoOptWindow);
+    for (int pass = 0; pass < options.twoOptMaxPasses; ++pass) {
+        bool improved = false;
+        for (int i = 0; i < n; ++i) {
+            const int jEnd = std::min(n - 1, i + window - 1);
+            for (int j = i; j <= jEnd; ++j) {
+                const Vec2 prev = i > 0 ? E[i - 1] : Vec2::Zero();
+                const bool hasNext = j + 1 < n;
+                double before = dist(prev, S[i]);
+                double after = dist(prev, E[j]);
+                if (hasNext) {
+                    before += dist(E[j], S[j + 1]);
+                    after += dist(S[i], S[j + 1]);
+                }
+                if (after < before - 1e-9) {
+                    std::reverse(order.begin() + i, order.begin() + j + 1);
+                    std::reverse(rev.begin() + i, rev.begin() + j + 1);
+                    std::reverse(S.begin() + i, S.begin() + j + 1);
+                    std::reverse(E.begin() + i, E.begin() + j + 1);
+                    for (int k = i; k <= j; ++k) {
+                        rev[k] = char(!rev[k]);
+                        std::swap(S[k], E[k]);
+                    }
+                    improved = true;
+                }
+            }
+        }
+        if (!improved) break;
+    }
+
+    std::vector<Stroke> out;
+    out.reserve(n);
+    for (int k = 0; k < n; ++k) {
+        out.push_back(std::move(strokes[order[k]]));
+        if (rev[k]) reverseStroke(out.back());
+    }
+    return out;
+}
+
+std::vector<Stroke> optimizeForPlotter(std::vector<Stroke> strokes, const PlotterOptions &options,
+                                       PlotterReport *report) {
+    if (report) report->penUpUnsortedPx += penUpLength(strokes);
+    std::vector<Stroke> clean;
+    clean.reserve(strokes.size());
+    for (Stroke &s : strokes)
+        if (removeDuplicatePoints(s)) clean.push_back(std::move(s));
+    if (report) report->penDownInputPx += penDownLength(clean);
+
+    clean = mergeStrokes(std::move(clean), options.mergeTolerancePx);
+    // Strokes simplify independently, each writing only itself: thread-count independent.
+    parallelFor(0, int64_t(clean.size()), [&](int64_t i) {
+        simplifyStroke(clean[size_t(i)], options.simplifyTolerancePx);
+    }, 64);
+    if (options.sort) clean = sortStrokes(std::move(clean), options);
+
+    if (report) {
+        report->penUpPx += penUpLength(clean);
+        report->penDownPx += penDownLength(clean);
+        report->paths += int(clean.size());
+    }
+    return clean;
+}
+
+} // namespace rosy::renderer

@@ -1,0 +1,68 @@
+#pragma once
+/// \file plotter.h
+/// The plotter pass: turns a layer of strokes into fewer, longer, simpler
+/// paths drawn in an order that keeps the pen-up travel short. It runs on the
+/// stroke list before vector output (svg.h), in raster px, one layer at a time
+/// (a pen plotter draws a layer with one pen, so strokes are never reordered
+/// across layers). Deterministic: the result depends only on the input strokes
+/// and options, never on thread count.
+
+#include "renderer/strokes.h"
+
+#include <vector>
+
+namespace rosy::renderer {
+
+/// Tolerances and effort limits of the plotter pass. Lengths in raster px.
+struct PlotterOptions {
+    double mergeTolerancePx = 0.5;     ///< strokes whose ends are this close are joined (0 disables)
+    double simplifyTolerancePx = 0.25; ///< Ramer–Douglas–Peucker tolerance (0 keeps every point)
+    bool sort = true;                  ///< greedy nearest-neighbour order + 2-opt
+    int twoOptWindow = 48;             ///< 2-opt considers segment reversals of at most this many strokes
+    int twoOptMaxPasses = 4;           ///< sweeps over the order; stops earlier when a sweep finds nothing
+};
+
+/// What the pass measured, summed over the layers it was given. Lengths in raster px.
+/// Every layer's travel starts at the origin (0, 0), the plotter's home corner.
+struct PlotterReport {
+    double penUpPx = 0;         ///< travel between strokes in the optimised order
+    double penUpUnsortedPx = 0; ///< travel of the input strokes in their given order and direction
+    double penDownPx = 0;       ///< drawn length after the pass
+    double penDownInputPx = 0;  ///< drawn length of the input
+    int paths = 0;              ///< strokes after merging
+};
+
+/// Drops consecutive duplicate points (closer than 1e-9 px) and non-finite
+/// points. A stroke that collapses to one point keeps it twice (a dot).
+/// Returns false if no finite point is left.
+bool removeDuplicatePoints(Stroke &stroke);
+
+/// Ramer–Douglas–Peucker simplification of one stroke: keeps both endpoints and
+/// every point further than `tolerancePx` from the chord of its span. Kept
+/// points keep their own widths (they are input points), so the width profile
+/// is the input's sampled at the kept points.
+void simplifyStroke(Stroke &stroke, double tolerancePx);
+
+/// Joins strokes whose ends meet within `tolerancePx`, reversing strokes as
+/// needed. Chains grow greedily from the lowest-index stroke, always taking the
+/// nearest free end (lowest index on ties). A joined point present at both ends
+/// is kept once. The merged stroke takes the kind, family and id of its first stroke.
+std::vector<Stroke> mergeStrokes(std::vector<Stroke> strokes, double tolerancePx);
+
+/// Orders (and reverses) strokes to shorten pen-up travel starting from the
+/// origin: greedy nearest end through a uniform grid, then windowed 2-opt, in
+/// which reversing a run of strokes also reverses each stroke in it.
+std::vector<Stroke> sortStrokes(std::vector<Stroke> strokes, const PlotterOptions &options);
+
+/// Pen-up travel of strokes drawn in the given order and direction, from the origin.
+double penUpLength(const std::vector<Stroke> &strokes);
+
+/// Sum of polyline lengths.
+double penDownLength(const std::vector<Stroke> &strokes);
+
+/// The whole pass on one layer: dedupe, merge, simplify, sort. Adds the
+/// layer's measurements to *report when it is not null. Empty input gives empty output.
+std::vector<Stroke> optimizeForPlotter(std::vector<Stroke> strokes, const PlotterOptions &options,
+                                       PlotterReport *report = nullptr);
+
+} // namespace rosy::renderer

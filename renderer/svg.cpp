@@ -1,0 +1,182 @@
+/// \file svg.cpp
+/// Layered SVG writer (see svg.h).
+
+#include "renderer/svg.h"
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+namespace rosy::renderer {
+
+namespace {
+
+/// A plotter and Inkscape read at most this many vertices per path comfortably.
+constexpr size_t kMaxPathVertices = 32000;
+
+/// Fixed 3 decimals (µm on the page) with trailing zeros trimmed: byte-identical
+/// across runs and platforms, and "210" rather than "210.000" for page sizes.
+void appendNumber(std::string &out, double x) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3f", x);
+    std::string s(buf);
+    if (s.find('.') != std::string::npos) {
+        while (s.back() == '0') s.pop_back();
+        if (s.back() == '.') s.pop_back();
+    }
+    if (s == "-0") s = "0";
+    out += s;
+}
+
+std::string number(double x) {
+    std::string s;
+    appendNumber(s, x);
+    return s;
+}
+
+int layerOf(const Stroke &s) {
+    switch (s.kind) {
+    case StrokeKind::Hatch: return s.family == 1 ? 1 : 0;
+    case StrokeKind::Contour: return 2;
+    case StrokeKind::HiddenContour: return 3;
+    }
+    return 2;
+}
+
+} // namespace
+
+std::optional<std::pair<double, double>> parsePaperSize(const std::string &name) {
+    std::string lower = name;
+    for (char &c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (lower == "a4") return std::pair{210.0, 297.0};
+    if (lower == "a3") return std::pair{297.0, 420.0};
+    if (lower == "letter") return std::pair{215.9, 279.4};
+    const size_t x = lower.find('x');
+    if (x == std::string::npos || x == 0 || x + 1 >= lower.size()) return std::nullopt;
+    try {
+        size_t usedW = 0, usedH = 0;
+        const std::string ws = lower.substr(0, x), hs = lower.substr(x + 1);
+        const double w = std::stod(ws, &usedW), h = std::stod(hs, &usedH);
+        if (usedW != ws.size() || usedH != hs.size()) return std::nullopt;
+        if (!(w > 0) || !(h > 0) || !std::isfinite(w) || !std::isfinite(h)) return std::nullopt;
+        return std::pair{w, h};
+    } catch (const std::exception &) {
+        return std::nullopt;
+    }
+}
+
+std::string svgDocument(const StrokeList &list, const SvgOptions &options, SvgReport *report) {
+    if (list.width <= 0 || list.height <= 0)
+        throw InputError(FileLoc{}, "SVG: stroke list has no size (" + std::to_string(list.width) + "x" +
+                                        std::to_string(list.height) + " px)",
+                         "render at a positive resolution");
+    const double availW = options.pageWidthMm - 2 * options.marginMm;
+    const double availH = options.pageHeightMm - 2 * options.marginMm;
+    if (!(availW > 0) || !(availH > 0) || !std::isfinite(availW) || !std::isfinite(availH))
+        throw InputError(FileLoc{}, "SVG: margin of " + number(options.marginMm) + " mm leaves no room on a " +
+                                        number(options.pageWidthMm) + "x" + number(options.pageHeightMm) + " mm page",
+                         "use a smaller margin or a larger paper size");
+    const double scale = std::min(availW / list.width, availH / list.height); // mm per px
+    const double offX = options.marginMm + 0.5 * (availW - scale * list.width);
+    const double offY = options.marginMm + 0.5 * (availH - scale * list.height);
+
+    std::array<std::vector<Stroke>, 4> layers;
+    for (const Stroke &s : list.strokes) layers[size_t(layerOf(s))].push_back(s);
+    if (!options.hiddenContours) layers[3].clear();
+
+    PlotterReport plot;
+    for (auto &layer : layers) {
+        if (options.plotterPass) {
+            layer = optimizeForPlotter(std::move(layer), options.plotter, &plot);
+        } else {
+            std::vector<Stroke> clean;
+            for (Stroke &s : layer)
+                if (removeDuplicatePoints(s)) clean.push_back(std::move(s));
+            layer = std::move(clean);
+            plot.penUpPx += penUpLength(layer);
+            plot.penUpUnsortedPx += penUpLength(layer);
+            plot.penDownPx += penDownLength(layer);
+        }
+    }
+
+    std::string out;
+    out.reserve(1 << 20);
+    out += "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n";
+    out += "<svg xmlns=\"http://www.w3.org/2000/svg\" "
+           "xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" version=\"1.1\" width=\"";
+    out += number(options.pageWidthMm) + "mm\" height=\"" + number(options.pageHeightMm) + "mm\" viewBox=\"0 0 ";
+    out += number(options.pageWidthMm) + " " + number(options.pageHeightMm) + "\">\n";
+
+    static const char *kLabels[4] = {"hatch 0", "hatch 1", "contours", "hidden contours"};
+    int paths = 0;
+    for (size_t l = 0; l < layers.size(); ++l) {
+        if (l == 3 && layers[3].empty()) continue;
+        out += "  <g inkscape:groupmode=\"layer\" id=\"layer" + std::to_string(l) + "\" inkscape:label=\"";
+        out += kLabels[l];
+        out += "\" fill=\"none\" stroke=\"";
+        out += l == 3 ? "#808080" : "#000000";
+        out += "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"";
+        if (l == 3) out += " stroke-dasharray=\"1 1\"";
+        out += ">\n";
+        for (const Stroke &s : layers[l]) {
+            const size_t n = s.points.size();
+            if (n == 0) continue;
+            double widthSum = 0;
+            for (float w : s.widths) widthSum += w;
+            const double widthMm = s.widths.empty() ? scale : widthSum / double(s.widths.size()) * scale;
+            // Long paths are split into pieces sharing their joining vertex, so the line stays continuous.
+            for (size_t begin = 0; begin + 1 < n || begin == 0; begin += kMaxPathVertices - 1) {
+                const size_t end = std::min(n, begin + kMaxPathVertices);
+                out += "    <path d=\"M";
+                for (size_t i = begin; i < end; ++i) {
+                    if (i == begin + 1) out += " L";
+                    out += ' ';
+                    appendNumber(out, offX + scale * s.points[i].x());
+                    out += ' ';
+                    appendNumber(out, offY + scale * s.points[i].y());
+                }
+                if (end - begin == 1) { // a lone vertex still needs a segment to show its round cap
+                    out += " L ";
+                    appendNumber(out, offX + scale * s.points[begin].x());
+                    out += ' ';
+                    appendNumber(out, offY + scale * s.points[begin].y());
+                }
+                out += "\" stroke-width=\"";
+                appendNumber(out, std::max(widthMm, 0.001));
+                out += "\"/>\n";
+                ++paths;
+                if (end == n) break;
+            }
+        }
+        out += "  </g>\n";
+    }
+    out += "</svg>\n";
+
+    if (report) {
+        report->penUpMm = plot.penUpPx * scale;
+        report->penUpUnsortedMm = plot.penUpUnsortedPx * scale;
+        report->penDownMm = plot.penDownPx * scale;
+        report->penUpRatioVsUnsorted = plot.penUpUnsortedPx > 0 ? plot.penUpPx / plot.penUpUnsortedPx : 1.0;
+        report->paths = paths;
+        report->mmPerPx = scale;
+    }
+    return out;
+}
+
+void writeSvg(const StrokeList &strokes, const SvgOptions &options, const std::string &path, SvgReport *report) {
+    const std::string text = svgDocument(strokes, options, report);
+    writeAtomically(path, [&](const std::string &tmp) {
+        std::ofstream os(tmp, std::ios::binary);
+        if (!os) throw IoError(path, "cannot open for writing");
+        os << text;
+        if (!os.flush()) throw IoError(path, "write failed (disk full?)");
+    });
+}
+
+} // namespace rosy::renderer

@@ -1,0 +1,54 @@
+#pragma once
+/// \file svg.h
+/// Layered SVG for print and pen plotters, written from the same stroke list
+/// the raster image is drawn from. The picture (the render's raster rectangle)
+/// is fitted into the page inside a margin and centred, aspect preserved.
+/// The document is in millimetres: width/height in mm and a viewBox of the
+/// same numbers, so one user unit is 1 mm and y points down, as in the raster.
+/// Layers are Inkscape layers: "hatch 0", "hatch 1", "contours", and
+/// "hidden contours" (dashed) when the list holds any.
+
+#include "renderer/plotter.h"
+#include "renderer/strokes.h"
+
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace rosy::renderer {
+
+struct SvgOptions {
+    double pageWidthMm = 210;  ///< A4 portrait by default
+    double pageHeightMm = 297;
+    double marginMm = 10;      ///< on every side; the picture is fitted inside
+    bool plotterPass = true;   ///< merge, simplify and order strokes (plotter.h)
+    PlotterOptions plotter;    ///< tolerances in raster px
+    bool hiddenContours = true; ///< write the dashed layer when hidden contours exist
+};
+
+/// Measurements of the written document, in page millimetres.
+struct SvgReport {
+    double penUpMm = 0;          ///< travel between paths, each layer starting at the picture's top-left corner
+    double penUpUnsortedMm = 0;  ///< the same for the input order
+    double penDownMm = 0;        ///< drawn length
+    double penUpRatioVsUnsorted = 1; ///< penUpMm / penUpUnsortedMm (1 when the input has no travel)
+    int paths = 0;               ///< <path> elements written (after merging and splitting)
+    double mmPerPx = 0;          ///< scale of the raster-to-page mapping
+};
+
+/// Page size (width, height) in mm for "a4", "a3", "letter" (case-insensitive,
+/// portrait), or "WxH" in mm such as "300x200". std::nullopt for anything else
+/// or non-positive sizes.
+std::optional<std::pair<double, double>> parsePaperSize(const std::string &name);
+
+/// The SVG document as text. Deterministic (fixed 3-decimal numbers, no
+/// timestamps), identical for any thread count. Non-finite points are dropped;
+/// an empty list gives a valid document with empty layers. Throws InputError if
+/// the picture does not fit (margins leave no room) or the list has no size.
+std::string svgDocument(const StrokeList &strokes, const SvgOptions &options, SvgReport *report = nullptr);
+
+/// Writes svgDocument() to `path` atomically (core/atomic_file.h); IoError on failure.
+void writeSvg(const StrokeList &strokes, const SvgOptions &options, const std::string &path,
+              SvgReport *report = nullptr);
+
+} // namespace rosy::renderer
