@@ -467,7 +467,8 @@ void applyStyleMap(const Parser &p, const YAML::Node &node, const std::string &p
         const std::string name = key.Scalar();
         if (std::find(extra.begin(), extra.end(), name) != extra.end()) continue;
         const std::string dotted = prefix + name;
-        const std::string what = context + "." + name;
+        // In a scene the keys live under `style:`; in a preset file at the top.
+        const std::string what = (context.rfind("style", 0) == 0 ? "style." : "") + dotted;
         auto it = std::find_if(styleKeyTable().begin(), styleKeyTable().end(),
                                [&](const StyleKey &k) { return dotted == k.key; });
         if (it == styleKeyTable().end()) {

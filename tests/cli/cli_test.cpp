@@ -203,3 +203,24 @@ TEST(FieldCli, SceneEditsAndEditFlagsReachTheReport) {
     CliRun same = run("field '" + plain.string() + "' --cancel 0,7", "field-edit-id");
     EXPECT_NE(same.err.find("singularity #7 does not exist"), std::string::npos) << same.err;
 }
+
+TEST(StylesCli, ListsEveryShippedPresetWithItsDescription) {
+    CliRun r = run("styles", "styles");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    for (const char *name : {"fine-pen", "engraving", "sketch"}) {
+        // One line per preset: the name, then its description on the same line.
+        size_t at = r.out.find(std::string(name) + " ");
+        ASSERT_NE(at, std::string::npos) << name << " missing from:\n" << r.out;
+        size_t eol = r.out.find('\n', at);
+        EXPECT_GT(eol - at, std::string(name).size() + 10) << "no description for " << name;
+    }
+    EXPECT_NE(r.out.find("copper-plate engraving"), std::string::npos) << r.out;
+}
+
+TEST(StylesCli, UnknownPresetInASceneExitsWithCode2AtItsLine) {
+    fs::path scene = writeScene("badstyle.yaml", std::string(kTinyScene) + "style:\n  preset: skecth\n");
+    CliRun r = run("render '" + scene.string() + "' --quiet", "badstyle");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find(scene.string() + ":6:11: error: unknown style preset 'skecth'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("did you mean 'sketch'?"), std::string::npos) << r.err;
+}

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <filesystem>
 #include <fstream>
 
@@ -371,7 +373,7 @@ TEST(ParseScene, InlineStyleOverridesWinOverThePreset) {
     EXPECT_EQ(d.style.style.hatch.crossDensity, 0.78); // still the preset's
     EXPECT_EQ(d.style.style.seed, 42u);
     EXPECT_TRUE(d.style.style.contour.hidden);
-    FileLoc w = d.style.setAt.at("hatch.stroke_width_px");
+    rosy::FileLoc w = d.style.setAt.at("hatch.stroke_width_px");
     EXPECT_EQ(w.path, scenePath());
     EXPECT_EQ(w.line, 3);
     EXPECT_EQ(w.col, 28);
@@ -382,8 +384,6 @@ TEST(ParseScene, StylePresetByPathResolvesAgainstTheSceneFolder) {
     SceneDesc d = parseScene("mesh: thing.off\nstyle: {preset: mine.yaml, ambient: 0.5}\n", scenePath());
     EXPECT_EQ(d.style.style.hatch.taper, 0.4);
     EXPECT_EQ(d.style.style.ambient, 0.5);
-    rosy::renderer::ShadingOptions unused;
-    (void)unused;
 }
 
 TEST(ParseScene, UnknownStylePresetListsThePresets) {
@@ -424,7 +424,7 @@ TEST(ParseScene, InconsistentSpacingsAreAnError) {
 TEST(ParseScene, BadPresetFileErrorsPointIntoThePresetFile) {
     fs::path bad = writePreset("bad-preset.yaml", "description: broken\nhatch:\n  taper: 0.9\n");
     std::string e = errorOf("mesh: thing.off\nstyle: {preset: bad-preset.yaml}\n");
-    EXPECT_TRUE(startsWith(e, bad.lexically_normal().string() + ":3:10: error: the style preset.hatch.taper must be in [0, 0.5]"))
+    EXPECT_TRUE(startsWith(e, bad.lexically_normal().string() + ":3:10: error: hatch.taper must be in [0, 0.5]"))
         << e;
     writePreset("nodesc.yaml", "ambient: 0.2\n");
     std::string nd = errorOf("mesh: thing.off\nstyle: {preset: nodesc.yaml}\n");
