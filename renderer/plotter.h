@@ -18,8 +18,8 @@ struct PlotterOptions {
     double mergeTolerancePx = 0.5;     ///< strokes whose ends are this close are joined (0 disables)
     double simplifyTolerancePx = 0.25; ///< Ramer–Douglas–Peucker tolerance (0 keeps every point)
     bool sort = true;                  ///< greedy nearest-neighbour order + 2-opt
-    int twoOptWindow = 48;             ///< 2-opt considers segment reversals of at most this many strokes
-    int twoOptMaxPasses = 4;           ///< sweeps over the order; stops earlier when a sweep finds nothing
+    int twoOptWindow = 32;             ///< 2-opt considers segment reversals of at most this many strokes
+    int twoOptMaxPasses = 3;           ///< sweeps over the order; stops earlier when a sweep finds nothing
 };
 
 /// What the pass measured, summed over the layers it was given. Lengths in raster px.

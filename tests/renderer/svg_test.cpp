@@ -1,0 +1,380 @@
+#include "renderer/plotter.h"
+#include "renderer/svg.h"
+
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <random>
+#include <sstream>
+
+using namespace rosy::renderer;
+
+namespace {
+
+Stroke line(Eigen::Vector2d a, Eigen::Vector2d b, float width = 1.0f, StrokeKind kind = StrokeKind::Hatch,
+            int family = 0) {
+    Stroke s;
+    s.points = {a, b};
+    s.widths = {width, width};
+    s.kind = kind;
+    s.family = kind == StrokeKind::Hatch ? family : -1;
+    return s;
+}
+
+/// An element of the tiny XML reader below: name, attributes, and the label of the enclosing layer.
+struct Element {
+    std::string name;
+    std::map<std::string, std::string> attrs;
+    std::string layer;
+};
+
+/// Well-formedness check written for these tests: balanced tags, quoted
+/// attributes, no duplicate attribute, one root. Returns false (with a reason) on
+/// the first violation; fills `elements` in document order.
+bool parseXml(const std::string &text, std::vector<Element> &elements, std::string &why) {
+    std::vector<std::string> open;
+    std::vector<std::string> layerStack;
+    int roots = 0;
+    size_t i = 0;
+    auto fail = [&](const std::string &msg) {
+        why = msg + " at byte " + std::to_string(i);
+        return false;
+    };
+    while (i < text.size()) {
+        if (text[i] != '<') {
+            if (open.empty() && !std::isspace(static_cast<unsigned char>(text[i]))) return fail("text outside root");
+            ++i;
+            continue;
+        }
+        if (text.compare(i, 5, "<?xml") == 0) {
+            const size_t e = text.find("?>", i);
+            if (e == std::string::npos) return fail("unterminated declaration");
+            i = e + 2;
+            continue;
+        }
+        if (text.compare(i, 2, "</") == 0) {
+            const size_t e = text.find('>', i);
+            if (e == std::string::npos) return fail("unterminated end tag");
+            const std::string name = text.substr(i + 2, e - i - 2);
+            if (open.empty() || open.back() != name) return fail("mismatched </" + name + ">");
+            open.pop_back();
+            if (name == "g") layerStack.pop_back();
+            i = e + 1;
+            continue;
+        }
+        size_t j = i + 1;
+        while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == ':')) ++j;
+        Element el;
+        el.name = text.substr(i + 1, j - i - 1);
+        if (el.name.empty()) return fail("empty tag name");
+        bool selfClosing = false;
+        for (;;) {
+            while (j < text.size() && std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+            if (j >= text.size()) return fail("unterminated tag");
+            if (text[j] == '>') {
+                ++j;
+                break;
+            }
+            if (text.compare(j, 2, "/>") == 0) {
+                selfClosing = true;
+                j += 2;
+                break;
+            }
+            const size_t eq = text.find('=', j);
+            if (eq == std::string::npos || text[eq + 1] != '"') return fail("unquoted attribute");
+            const std::string key = text.substr(j, eq - j);
+            const size_t close = text.find('"', eq + 2);
+            if (close == std::string::npos) return fail("unterminated attribute");
+            const std::string value = text.substr(eq + 2, close - eq - 2);
+            if (value.find('<') != std::string::npos) return fail("'<' in attribute");
+            if (!el.attrs.emplace(key, value).second) return fail("duplicate attribute " + key);
+            j = close + 1;
+        }
+        if (open.empty()) ++roots;
+        if (roots > 1) return fail("two roots");
+        el.layer = layerStack.empty() ? "" : layerStack.back();
+        if (!selfClosing) {
+            open.push_back(el.name);
+            if (el.name == "g") layerStack.push_back(el.attrs["inkscape:label"]);
+        }
+        elements.push_back(el);
+        i = j;
+    }
+    if (!open.empty()) return fail("unclosed <" + open.back() + ">");
+    if (roots != 1) return fail("no root");
+    return true;
+}
+
+std::vector<Element> parseOrFail(const std::string &svg) {
+    std::vector<Element> els;
+    std::string why;
+    EXPECT_TRUE(parseXml(svg, els, why)) << why;
+    return els;
+}
+
+std::map<std::string, int> pathsPerLayer(const std::vector<Element> &els) {
+    std::map<std::string, int> counts;
+    for (const Element &e : els)
+        if (e.name == "g") counts[e.attrs.at("inkscape:label")] += 0;
+        else if (e.name == "path") ++counts[e.layer];
+    return counts;
+}
+
+std::vector<Stroke> randomShortStrokes(int n, double size, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(0, size), ang(0, 6.283185307179586), len(2, 10);
+    std::vector<Stroke> out;
+    out.reserve(size_t(n));
+    for (int i = 0; i < n; ++i) {
+        const Eigen::Vector2d a(pos(rng), pos(rng));
+        const double t = ang(rng), l = len(rng);
+        Stroke s = line(a, a + l * Eigen::Vector2d(std::cos(t), std::sin(t)));
+        s.id = uint32_t(i);
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+} // namespace
+
+TEST(XmlCheck, RejectsMalformedDocuments) {
+    std::vector<Element> els;
+    std::string why;
+    EXPECT_FALSE(parseXml("<svg><g></svg>", els, why));
+    EXPECT_FALSE(parseXml("<svg a=1/>", els, why));
+    EXPECT_FALSE(parseXml("<svg/><svg/>", els, why));
+    EXPECT_TRUE(parseXml("<svg><g a=\"1\"/></svg>", els, why)) << why;
+}
+
+TEST(Svg, A4PageHasMillimetreSizeAndLayers) {
+    StrokeList list;
+    list.width = 200;
+    list.height = 100;
+    list.strokes.push_back(line({10, 10}, {50, 10}, 1, StrokeKind::Hatch, 0));
+    list.strokes.push_back(line({10, 80}, {50, 80}, 1, StrokeKind::Hatch, 0));
+    list.strokes.push_back(line({10, 20}, {10, 60}, 1, StrokeKind::Hatch, 1));
+    list.strokes.push_back(line({100, 20}, {150, 60}, 2, StrokeKind::Contour));
+    SvgReport report;
+    const std::string svg = svgDocument(list, SvgOptions{}, &report);
+    const auto els = parseOrFail(svg);
+    ASSERT_FALSE(els.empty());
+    EXPECT_EQ(els[0].name, "svg");
+    EXPECT_EQ(els[0].attrs.at("width"), "210mm");
+    EXPECT_EQ(els[0].attrs.at("height"), "297mm");
+    EXPECT_EQ(els[0].attrs.at("viewBox"), "0 0 210 297");
+    const auto counts = pathsPerLayer(els);
+    EXPECT_EQ(counts.size(), 3u); // no hidden contours, no hidden layer
+    EXPECT_EQ(counts.at("hatch 0"), 2);
+    EXPECT_EQ(counts.at("hatch 1"), 1);
+    EXPECT_EQ(counts.at("contours"), 1);
+    EXPECT_EQ(report.paths, 4);
+    for (const Element &e : els)
+        if (e.name == "g") {
+            EXPECT_EQ(e.attrs.at("inkscape:groupmode"), "layer");
+        }
+}
+
+TEST(Svg, KnownStrokeLandsAtExpectedMillimetres) {
+    // 100×100 px into A4 minus 10 mm margins (190×277 mm): 1.9 mm/px, the square
+    // centred vertically, so its top is at 10 + (277 − 190)/2 = 53.5 mm.
+    StrokeList list;
+    list.width = 100;
+    list.height = 100;
+    list.strokes.push_back(line({0, 0}, {50, 50}, 2));
+    SvgOptions opt;
+    opt.plotterPass = false;
+    SvgReport report;
+    const auto els = parseOrFail(svgDocument(list, opt, &report));
+    int found = 0;
+    for (const Element &e : els)
+        if (e.name == "path") {
+            ++found;
+            EXPECT_EQ(e.attrs.at("d"), "M 10 53.5 L 105 148.5");
+            EXPECT_EQ(e.attrs.at("stroke-width"), "3.8");
+        }
+    EXPECT_EQ(found, 1);
+    EXPECT_NEAR(report.mmPerPx, 1.9, 1e-12);
+    EXPECT_NEAR(report.penDownMm, std::sqrt(2.0) * 50 * 1.9, 1e-9);
+}
+
+TEST(Svg, HiddenContoursGetADashedLayer) {
+    StrokeList list;
+    list.width = list.height = 64;
+    list.strokes.push_back(line({1, 1}, {30, 1}, 1, StrokeKind::Contour));
+    list.strokes.push_back(line({1, 10}, {30, 10}, 1, StrokeKind::HiddenContour));
+    const auto els = parseOrFail(svgDocument(list, SvgOptions{}));
+    bool dashed = false;
+    for (const Element &e : els)
+        if (e.name == "g" && e.attrs.at("inkscape:label") == "hidden contours")
+            dashed = e.attrs.count("stroke-dasharray") == 1;
+    EXPECT_TRUE(dashed);
+    EXPECT_EQ(pathsPerLayer(els).at("hidden contours"), 1);
+}
+
+TEST(Svg, LongPathsAreSplitBelow32000Vertices) {
+    StrokeList list;
+    list.width = list.height = 1000;
+    Stroke s;
+    s.kind = StrokeKind::Contour;
+    // A zigzag, so simplification cannot drop vertices: 70000 points need
+    // ceil(69999 / 31999) = 3 pieces that share their joining vertices.
+    for (int i = 0; i < 70000; ++i) {
+        s.points.emplace_back(i * 1.0, (i % 2) * 5.0);
+        s.widths.push_back(1);
+    }
+    list.strokes.push_back(s);
+    const auto els = parseOrFail(svgDocument(list, SvgOptions{}));
+    int paths = 0;
+    for (const Element &e : els)
+        if (e.name == "path") {
+            ++paths;
+            const std::string &d = e.attrs.at("d");
+            const size_t numbers = size_t(std::count(d.begin(), d.end(), ' ')) - 1; // "M" and "L" each take one space
+            EXPECT_LE(numbers / 2, 32000u);
+        }
+    EXPECT_EQ(paths, 3);
+}
+
+TEST(Svg, RejectsMarginsLargerThanThePage) {
+    StrokeList list;
+    list.width = list.height = 10;
+    SvgOptions opt;
+    opt.marginMm = 120;
+    EXPECT_THROW(svgDocument(list, opt), rosy::InputError);
+}
+
+TEST(Svg, ParsesPaperSizes) {
+    EXPECT_EQ(parsePaperSize("A4"), (std::pair{210.0, 297.0}));
+    EXPECT_EQ(parsePaperSize("a3"), (std::pair{297.0, 420.0}));
+    EXPECT_EQ(parsePaperSize("300x200"), (std::pair{300.0, 200.0}));
+    EXPECT_FALSE(parsePaperSize("a5x").has_value());
+    EXPECT_FALSE(parsePaperSize("0x10").has_value());
+    EXPECT_FALSE(parsePaperSize("b4").has_value());
+}
+
+TEST(Svg, IsByteIdenticalForOneAndTwoThreads) {
+    StrokeList list;
+    list.width = list.height = 500;
+    list.strokes = randomShortStrokes(5000, 500, 7);
+    for (size_t i = 0; i < list.strokes.size(); i += 3) list.strokes[i].family = 1;
+    std::string one, two;
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        one = svgDocument(list, SvgOptions{});
+    }
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+        two = svgDocument(list, SvgOptions{});
+    }
+    EXPECT_EQ(one, two);
+}
+
+TEST(Svg, WritesTheFileAtomically) {
+    const auto path = std::filesystem::path(ROSY_BINARY_DIR) / "svg_test_out.svg";
+    StrokeList list;
+    list.width = list.height = 10;
+    list.strokes.push_back(line({1, 1}, {9, 9}));
+    writeSvg(list, SvgOptions{}, path.string());
+    std::ifstream is(path, std::ios::binary);
+    std::stringstream ss;
+    ss << is.rdbuf();
+    EXPECT_EQ(ss.str(), svgDocument(list, SvgOptions{}));
+    std::filesystem::remove(path);
+}
+
+TEST(Plotter, MergeJoinsStrokesSharingAnEndpoint) {
+    // The second stroke runs towards the shared point, so it must be reversed.
+    std::vector<Stroke> in{line({0, 0}, {1, 0}), line({2, 0}, {1.2, 0}), line({5, 5}, {6, 5})};
+    const auto out = mergeStrokes(in, 0.5);
+    ASSERT_EQ(out.size(), 2u);
+    ASSERT_EQ(out[0].points.size(), 4u);
+    EXPECT_EQ(out[0].points.front(), Eigen::Vector2d(0, 0));
+    EXPECT_EQ(out[0].points.back(), Eigen::Vector2d(2, 0));
+    EXPECT_EQ(out[0].widths.size(), out[0].points.size());
+    EXPECT_EQ(out[1].points.front(), Eigen::Vector2d(5, 5));
+}
+
+TEST(Plotter, MergeLeavesDistantEndsApart) {
+    std::vector<Stroke> in{line({0, 0}, {1, 0}), line({1.6, 0}, {3, 0})};
+    EXPECT_EQ(mergeStrokes(in, 0.5).size(), 2u);
+}
+
+TEST(Plotter, SimplifyRemovesCollinearPointsAndKeepsCorners) {
+    Stroke s;
+    s.points = {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {2.1, 3}, {2, 4}};
+    s.widths = {1, 2, 3, 4, 5, 6, 7};
+    simplifyStroke(s, 0.25);
+    // (2.1, 3) is 0.1 px off the chord (2,2)-(2,4) … and (2,2) itself lies on
+    // the chord (2,0)-(2,4): only the corner and the ends remain.
+    ASSERT_EQ(s.points.size(), 3u);
+    EXPECT_EQ(s.points[0], Eigen::Vector2d(0, 0));
+    EXPECT_EQ(s.points[1], Eigen::Vector2d(2, 0));
+    EXPECT_EQ(s.points[2], Eigen::Vector2d(2, 4));
+    EXPECT_EQ(s.widths, (std::vector<float>{1, 3, 7}));
+}
+
+TEST(Plotter, DuplicatePointsAndNaNsAreDropped) {
+    Stroke s;
+    s.points = {{0, 0}, {0, 0}, {NAN, 1}, {1, 0}, {1, 0}};
+    s.widths = {1, 1, 1, 1, 1};
+    ASSERT_TRUE(removeDuplicatePoints(s));
+    EXPECT_EQ(s.points.size(), 2u);
+}
+
+TEST(Plotter, SortingCutsPenUpAndKeepsPenDown) {
+    const auto in = randomShortStrokes(3000, 1000, 11);
+    PlotterReport report;
+    const auto out = optimizeForPlotter(in, PlotterOptions{}, &report);
+    EXPECT_NEAR(report.penUpUnsortedPx, penUpLength(in), 1e-6);
+    EXPECT_NEAR(report.penDownPx, penDownLength(in), 0.01 * penDownLength(in));
+    EXPECT_LT(report.penUpPx, 0.6 * report.penUpUnsortedPx);
+    EXPECT_NEAR(report.penUpPx, penUpLength(out), 1e-6);
+    // Nothing drawn is lost: every input stroke is still drawn (possibly merged).
+    EXPECT_LE(out.size(), in.size());
+    EXPECT_EQ(report.paths, int(out.size()));
+}
+
+TEST(Plotter, TwoOptFixesACrossedTour) {
+    // Four unit strokes on a line; the given order zigzags across it. The optimal
+    // tour from the origin draws them left to right with 3 px of travel.
+    std::vector<Stroke> in{line({0, 0}, {1, 0}), line({6, 0}, {7, 0}), line({2, 0}, {3, 0}), line({4, 0}, {5, 0})};
+    PlotterOptions opt;
+    opt.mergeTolerancePx = 0;
+    const auto out = sortStrokes(in, opt);
+    EXPECT_NEAR(penUpLength(out), 3.0, 1e-12);
+}
+
+/// Measurement, not a check: run with --gtest_also_run_disabled_tests.
+TEST(PlotterBenchmark, DISABLED_HundredThousandShortStrokes) {
+    const auto in = randomShortStrokes(100000, 4000, 3);
+    std::vector<double> ms;
+    PlotterReport report;
+    for (const auto &[name, fn] : std::vector<std::pair<const char *, std::function<void()>>>{
+             {"merge", [&] { (void)mergeStrokes(in, 0.5); }},
+             {"sort", [&] { (void)sortStrokes(in, PlotterOptions{}); }},
+         }) {
+        const auto t0 = std::chrono::steady_clock::now();
+        fn();
+        std::printf("%s: %.1f ms\n", name,
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    for (int rep = 0; rep < 5; ++rep) {
+        report = PlotterReport{};
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto out = optimizeForPlotter(in, PlotterOptions{}, &report);
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    std::printf("100k strokes: median %.1f ms, penup ratio %.3f, paths %d\n", ms[2],
+                report.penUpPx / report.penUpUnsortedPx, report.paths);
+}
