@@ -444,3 +444,21 @@ TEST(StyleKeys, CoverEveryDocumentedGroup) {
     }
     for (const std::string &k : keys) EXPECT_TRUE(contains(readme, "`" + k + "`")) << k << " not documented";
 }
+
+// Every example scene the project ships must load as it is: a renamed key or a
+// moved mesh would otherwise only show when a user tries it.
+TEST(ExampleScenes, EveryShippedSceneParsesAndBuilds) {
+    const fs::path dir = fs::path(ROSY_SOURCE_DIR) / "scenes";
+    std::vector<fs::path> scenes;
+    for (const auto &entry : fs::directory_iterator(dir))
+        if (entry.path().extension() == ".yaml") scenes.push_back(entry.path());
+    std::sort(scenes.begin(), scenes.end());
+    ASSERT_GE(scenes.size(), 5u);
+    for (const fs::path &p : scenes) {
+        SCOPED_TRACE(p.string());
+        SceneDesc desc = parseSceneFile(p.string());
+        Scene scene = buildScene(desc);
+        EXPECT_GT(scene.mesh.nFaces(), 0);
+        EXPECT_FALSE(scene.output.empty());
+    }
+}
