@@ -348,12 +348,7 @@ void runField(const FieldOptions &opt) {
         json.key("timings_ms").beginObject();
         for (const auto &[stage, t] : ms) json.field(stage, t);
         json.endObject().endObject();
-        const std::string text = json.str();
-        writeAtomically(opt.jsonPath, [&](const std::string &tmp) {
-            std::ofstream os(tmp, std::ios::binary);
-            os << text;
-            if (!os.flush()) throw IoError(opt.jsonPath, "write failed");
-        });
+        writeTextAtomically(opt.jsonPath, json.str());
     }
     if (!opt.plyPath.empty()) field::writeFieldPly(opt.plyPath, frames, result.field);
     if (!holds) throw std::logic_error("Poincare-Hopf check failed");

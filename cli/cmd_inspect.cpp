@@ -52,14 +52,7 @@ void runInspect(const InspectCliOptions &opt) {
               << (maps.hatchSpacingPx > 0 ? " from the file" : " measured") << ")\n";
 
     if (!opt.jsonPath.empty()) {
-        std::string json = renderer::inspectJson(r);
-        writeAtomically(opt.jsonPath, [&](const std::string &tmp) {
-            std::ofstream out(tmp, std::ios::binary);
-            if (!out) throw IoError(opt.jsonPath, "cannot open the JSON file for writing");
-            out << json;
-            out.close();
-            if (!out) throw IoError(opt.jsonPath, "error while writing the JSON file");
-        });
+        writeTextAtomically(opt.jsonPath, renderer::inspectJson(r));
     }
 }
 

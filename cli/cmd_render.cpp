@@ -54,14 +54,6 @@ bool hasExtension(const std::string &path, const char *dotExt) {
 bool isExrPath(const std::string &path) { return hasExtension(path, ".exr"); }
 bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
 
-void writeText(const std::string &path, const std::string &text) {
-    writeAtomically(path, [&](const std::string &tmp) {
-        std::ofstream os(tmp, std::ios::binary);
-        os << text;
-        if (!os.flush()) throw IoError(path, "write failed (disk full?)");
-    });
-}
-
 void runRender(const RenderOptions &opt) {
     const auto start = std::chrono::steady_clock::now();
     std::optional<tbb::global_control> threadLimit;
@@ -156,7 +148,7 @@ void runRender(const RenderOptions &opt) {
         for (const auto &[kind, count] : warningCounts()) json.field(kind, count);
         json.endObject();
         json.endObject();
-        writeText(opt.reportPath, json.str());
+        writeTextAtomically(opt.reportPath, json.str());
     }
     if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath, totalMs);
     std::cout << output << "\n"; // the written path, also with --quiet (scripts read it)

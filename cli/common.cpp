@@ -5,7 +5,6 @@
 #include "core/json.h"
 
 #include <cstdio>
-#include <fstream>
 
 namespace rosy::cli {
 
@@ -26,12 +25,7 @@ void Timings::write(const std::string &path, double totalMs) const {
     }
     json.field("total", totalMs > 0 ? totalMs : sum);
     json.endObject();
-    const std::string text = json.str();
-    writeAtomically(path, [&](const std::string &tmp) {
-        std::ofstream out(tmp);
-        out << text;
-        if (!out.flush()) throw IoError(path, "error while writing the timings file");
-    });
+    writeTextAtomically(path, json.str());
 }
 
 } // namespace rosy::cli

@@ -20,4 +20,8 @@ void checkWritable(const std::string &path);
 /// (rename failures as IoError).
 void writeAtomically(const std::string &path, const std::function<void(const std::string &)> &write);
 
+/// Writes `text` to `path` through writeAtomically().
+/// \throws IoError naming the path if the file cannot be opened or written (disk full).
+void writeTextAtomically(const std::string &path, const std::string &text);
+
 } // namespace rosy

@@ -11,7 +11,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 namespace rosy::renderer {
 
@@ -170,13 +169,7 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &options, SvgRe
 }
 
 void writeSvg(const StrokeList &strokes, const SvgOptions &options, const std::string &path, SvgReport *report) {
-    const std::string text = svgDocument(strokes, options, report);
-    writeAtomically(path, [&](const std::string &tmp) {
-        std::ofstream os(tmp, std::ios::binary);
-        if (!os) throw IoError(path, "cannot open for writing");
-        os << text;
-        if (!os.flush()) throw IoError(path, "write failed (disk full?)");
-    });
+    writeTextAtomically(path, svgDocument(strokes, options, report));
 }
 
 } // namespace rosy::renderer
