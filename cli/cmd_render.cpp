@@ -105,6 +105,7 @@ void runRender(const RenderOptions &opt) {
     input.mesh = &scene.mesh;
     input.frames = &frames;
     input.field = &fieldResult.field;
+    input.singularities = &singularities;
     input.scene = rayScene.get();
     input.camera = &scene.camera;
     input.lights = scene.lights;

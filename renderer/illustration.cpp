@@ -19,7 +19,7 @@ double nominalHatchSpacingPx(const styles::HatchStyle &style) {
 }
 
 Illustration renderIllustration(const IllustrationInput &in) {
-    ROSY_CHECK(in.mesh && in.frames && in.field && in.scene && in.camera);
+    ROSY_CHECK(in.mesh && in.frames && in.field && in.singularities && in.scene && in.camera);
     const Camera &camera = *in.camera;
     Illustration out;
     // One bar over the six stages; it only shows on a terminal after about a second.
@@ -43,7 +43,7 @@ Illustration renderIllustration(const IllustrationInput &in) {
             out.targetDensity[i] = float(std::pow(std::clamp(1.0 - tone[i], 0.0, 1.0), gamma));
     lap("tone");
 
-    out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, camera);
+    out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
     lap("screen_field");
 
     out.strokes = traceHatches(out.screen, out.targetDensity, out.gbuffer, in.style.hatch, in.style.seed);

@@ -32,6 +32,7 @@ struct IllustrationInput {
     const field::Mesh *mesh = nullptr;
     const field::TangentFrames *frames = nullptr; ///< of *mesh
     const field::RosyField *field = nullptr;      ///< the hatch field (any N; 2 and 4 are the usual)
+    const field::SingularityReport *singularities = nullptr; ///< of *field (findSingularities)
     const RayScene *scene = nullptr;              ///< built from *mesh
     const Camera *camera = nullptr;
     std::vector<Light> lights;

@@ -112,7 +112,8 @@ bool ScreenField::lineOfFamily(const Vec2 &p, int family, Vec2 &dir) const {
 }
 
 ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrames &frames,
-                               const field::RosyField &field, const Camera &camera) {
+                               const field::RosyField &field, const field::SingularityReport &report,
+                               const Camera &camera) {
     const field::Mesh &mesh = frames.mesh();
     ROSY_CHECK_EQ(int(field.u.size()), mesh.nVertices());
     ROSY_CHECK(field.nSym >= 1);
@@ -167,7 +168,6 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
         }
     }, 1);
 
-    const field::SingularityReport report = field::findSingularities(frames, field);
     out.singularities.reserve(report.singularities.size());
     for (const field::Singularity &s : report.singularities) {
         ScreenSingularity ss;

@@ -16,6 +16,7 @@
 
 #include "field/frames.h"
 #include "field/rosy.h"
+#include "field/singularities.h"
 #include "renderer/camera.h"
 #include "renderer/gbuffer.h"
 
@@ -85,8 +86,11 @@ struct ScreenField {
 /// result is identical for any thread count.
 /// \param gbuffer rendered with `camera` from the mesh `frames` is built on.
 /// \param field vertex-based field on that mesh (#V representation vectors).
+/// \param singularities the field's singularities (field::findSingularities), found
+///   once by the caller, which usually reports them too.
 /// Empty G-buffer: an empty field. A zero field gives no valid pixel.
 ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrames &frames,
-                               const field::RosyField &field, const Camera &camera);
+                               const field::RosyField &field, const field::SingularityReport &singularities,
+                               const Camera &camera);
 
 } // namespace rosy::renderer

@@ -42,7 +42,7 @@ struct Scene {
     void render() {
         RayScene rs(mesh);
         gbuffer = renderGBuffer(rs, mesh, camera);
-        screen = computeScreenField(gbuffer, *frames, field, camera);
+        screen = computeScreenField(gbuffer, *frames, field, field::findSingularities(*frames, field), camera);
     }
     std::vector<float> uniformDensity(float d) const { return std::vector<float>(gbuffer.nPixels(), d); }
 };
@@ -294,7 +294,7 @@ TEST(Hatching, SameStrokesForOneAndTwoThreads) {
     st.jitterPx = 0.3;
     auto run = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-        ScreenField sf = computeScreenField(s.gbuffer, *s.frames, s.field, s.camera);
+        ScreenField sf = computeScreenField(s.gbuffer, *s.frames, s.field, field::findSingularities(*s.frames, s.field), s.camera);
         return traceHatches(sf, s.uniformDensity(0.5f), s.gbuffer, st, 9, nullptr);
     };
     const StrokeList a = run(1), b = run(2);
