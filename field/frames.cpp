@@ -31,7 +31,6 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
     m_faceHolonomy.assign(nF, 0.0);
     m_normal.assign(nV, Vec3::UnitZ());
     m_projAngle.assign(nH, 0.0);
-    m_ringIndex.assign(nH, 0);
     m_projTotal.assign(nV, kTwoPi);
     m_angleTotal.assign(nV, kTwoPi);
     m_faceX.assign(nF, Vec3::UnitX());
@@ -58,7 +57,6 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
         double acc = 0;
         for (int k = 0; k < d; ++k) {
             m_angleOut[begin[k]] = acc;
-            m_ringIndex[begin[k]] = k;
             acc += s * corner[begin[k]];
         }
 

@@ -93,8 +93,6 @@ private:
     std::vector<double> m_angleTotal; // #V: 2π inside, Θ_v on the boundary
     std::vector<Vec3> m_faceX, m_faceY;                    // #F
     std::vector<double> m_vertexToFace;                    // #3F
-    // Ring position (index into the vertex's outgoing list) of each halfedge.
-    std::vector<int> m_ringIndex; // #3F
 };
 
 } // namespace rosy::field
