@@ -3,7 +3,12 @@
 // same scene (single rays, same camera, same parallel rows), so the overhead of
 // our G-buffer (barycentrics, positions, interpolated normals, depth) is visible.
 #include "core/parallel.h"
+#include "field/field_builder.h"
 #include "field/mesh_io.h"
+#include "field/primitives.h"
+#include "field/singularities.h"
+#include "renderer/illustration.h"
+#include "scenes/scene.h"
 #include "renderer/camera.h"
 #include "renderer/embree_scene.h"
 #include "renderer/gbuffer.h"
@@ -11,6 +16,9 @@
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
+#include <sys/resource.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <memory>
 
@@ -87,5 +95,66 @@ static void BM_GBuffer(benchmark::State &state) {
     for (auto _ : state) benchmark::DoNotOptimize(renderer::renderGBuffer(*s.scene, s.mesh, *s.camera));
 }
 BENCHMARK(BM_GBuffer)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The large case: a 1M-face mesh at 4096², end to end in one process.
+// bunny00 (75,408 faces) midpoint-subdivided twice gives 1,206,528 faces with the
+// same bounding sphere, so scenes/bunny.yaml's camera, lights and style apply
+// unchanged; only the resolution is raised to 4096². Each stage is a counter in
+// milliseconds (load includes the two subdivisions), and peak_rss_MiB is the
+// process's peak resident memory (getrusage), which covers everything run before
+// it in this process, so run it alone:
+//   render_bench --benchmark_filter=Render1MFaces
+static void BM_Render1MFaces4096(benchmark::State &state) {
+    using Clock = std::chrono::steady_clock;
+    const std::string scenePath = std::string(ROSY_DATA_DIR) + "/../scenes/bunny.yaml";
+    for (auto _ : state) {
+        std::vector<std::pair<std::string, double>> ms;
+        auto t0 = Clock::now();
+        auto lap = [&](const char *name) {
+            const auto t = Clock::now();
+            ms.emplace_back(name, std::chrono::duration<double, std::milli>(t - t0).count());
+            t0 = t;
+        };
+        const auto start = t0;
+        const scenes::SceneDesc desc = scenes::parseSceneFile(scenePath, {"camera.resolution=[4096, 4096]"});
+        scenes::Scene scene = scenes::buildScene(desc);
+        scene.mesh = field::subdivideMidpoint(field::subdivideMidpoint(scene.mesh));
+        lap("load");
+        const field::TangentFrames frames(scene.mesh);
+        lap("frames");
+        field::FieldResult fr = field::buildField(frames, desc.field.spec);
+        lap("field");
+        const field::SingularityReport sings = field::findSingularities(frames, fr.field);
+        lap("singularities");
+        const renderer::RayScene rays(scene.mesh);
+        lap("bvh");
+        renderer::IllustrationInput in;
+        in.mesh = &scene.mesh;
+        in.frames = &frames;
+        in.field = &fr.field;
+        in.singularities = &sings;
+        in.scene = &rays;
+        in.camera = &scene.camera;
+        in.lights = scene.lights;
+        in.shading = scene.shading;
+        in.style = scene.style;
+        t0 = Clock::now();
+        const renderer::Illustration il = renderer::renderIllustration(in);
+        for (const auto &[stage, v] : il.timingsMs) ms.emplace_back(stage, v);
+        t0 = Clock::now();
+        renderer::writeImage(il.composite, "/tmp/rosy_render_bench_1m.png");
+        lap("write");
+        const double total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        for (const auto &[name, v] : ms) state.counters[name + "_ms"] = v;
+        state.counters["total_ms"] = total;
+        state.counters["faces"] = scene.mesh.nFaces();
+        state.counters["strokes"] = double(il.strokes.strokes.size());
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    state.counters["peak_rss_MiB"] = double(usage.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
+    std::remove("/tmp/rosy_render_bench_1m.png");
+}
+BENCHMARK(BM_Render1MFaces4096)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 BENCHMARK_MAIN();

@@ -48,6 +48,7 @@ struct FieldOptions {
     bool separatrices = false;
     std::string jsonPath, plyPath;
     std::string imagePath, imageBeforePath; ///< field pictures after / before the edits
+    std::vector<std::string> overrides;     ///< --set KEY=VALUE (scenes only)
     CommonOptions common;
     /// Options a scene's field block provides too: the flag wins only when given.
     std::vector<std::string> explicitFlags;
@@ -198,7 +199,10 @@ void runField(const FieldOptions &opt) {
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
     const bool isScene = endsWith(opt.input, ".yaml") || endsWith(opt.input, ".yml");
     std::optional<scenes::SceneDesc> scene;
-    if (isScene) scene = scenes::parseSceneFile(opt.input);
+    if (!isScene && !opt.overrides.empty())
+        throw InputError(FileLoc{"--set " + opt.overrides.front()}, "--set overrides keys of a scene file",
+                         "give a scene (.yaml) instead of a mesh, or use the field flags");
+    if (isScene) scene = scenes::parseSceneFile(opt.input, opt.overrides);
     const bool fromScene = scene && scene->field.given;
     // A scene's field block is the base; each flag given explicitly overrides its part.
     field::FieldSpec spec = fromScene ? scene->field.spec : field::FieldSpec{};
@@ -248,6 +252,11 @@ void runField(const FieldOptions &opt) {
                              std::string("use one of the extensions ") + renderer::supportedImageExtensions());
         checkWritable(path);
     }
+    for (const std::string &out : {opt.jsonPath, opt.plyPath, opt.common.timingsPath, opt.imagePath,
+                                   opt.imageBeforePath}) {
+        checkNotAnInput(out, opt.input, isScene ? "scene file" : "input mesh");
+        if (scene && scene->mesh.file) checkNotAnInput(out, scene->mesh.file->value, "input mesh");
+    }
     if (!opt.imageBeforePath.empty() && edits.empty())
         throw InputError(FileLoc{"--image-before"}, "there are no edits to show the field before",
                          "give --cancel, --move or --cancel-near (or a scene with field edits), or use --image only");
@@ -263,11 +272,11 @@ void runField(const FieldOptions &opt) {
     // Pictures use the scene's camera, or a 1024² automatic framing of a bare mesh.
     std::optional<renderer::Camera> camera;
     if (scene) {
-        scenes::Scene built = scenes::buildScene(*scene);
+        scenes::Scene built = scenes::buildScene(*scene, field::LoadOptions{opt.common.maxFaces});
         mesh = std::move(built.mesh);
         camera = built.camera;
     } else {
-        mesh = field::loadMesh(opt.input);
+        mesh = field::loadMesh(opt.input, field::LoadOptions{opt.common.maxFaces});
     }
     if (!camera) camera = renderer::frameMesh(mesh, 1024, 1024);
     lap("load");
@@ -389,6 +398,7 @@ void addFieldCommand(CLI::App &app, Action &action) {
                     "(green outgoing, orange incoming); format from the extension");
     sub->add_option("--image-before", opt->imageBeforePath,
                     "Write the same picture of the field before the edits, to compare with --image");
+    addSetOption(*sub, opt->overrides);
     addCommonOptions(*sub, opt->common);
     sub->callback([opt, sub, editFlags, &action] {
         // The edit flags are separate options, so their relative order comes from

@@ -17,6 +17,8 @@
 #include "field/singularities.h"
 #include "renderer/illustration.h"
 #include "renderer/svg.h"
+#include "field/separatrices.h"
+#include "renderer/field_picture.h"
 
 #include <algorithm>
 #include <cctype>
@@ -28,6 +30,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <sstream>
 
 namespace rosy::cli {
@@ -37,10 +40,16 @@ namespace {
 struct RenderOptions {
     std::string reportPath; ///< --report: stroke-list statistics as JSON
     std::string scenePath;
-    std::string outputPath; ///< -o; overrides the scene's output
-    std::string paper = "a4"; ///< --paper: SVG page size (a4, a3, letter or WxH in mm)
-    double marginMm = 10;     ///< --margin-mm: SVG page margin
+    std::vector<std::string> outputPaths; ///< -o (repeatable); overrides the scene's output list
+    bool threadsGiven = false; ///< --threads was on the command line (it beats the scene's `threads`)
+    std::string svgPath;      ///< --svg: the layered SVG as well, from the same render
+    // SVG page overrides; unset: the style's `page` (scenes/README.md).
+    std::string paper;              ///< --paper: a4, a3, letter or WxH in mm
+    std::optional<double> marginMm; ///< --margin-mm
+    std::string orientation;        ///< --orientation: auto, portrait or landscape
+    std::optional<double> penMm;    ///< --pen-mm: every path this wide
     bool noPlotter = false;   ///< --no-plotter: keep strokes as traced (no merge, simplify, sort)
+    std::vector<std::string> overrides; ///< --set KEY=VALUE, applied to the scene before validation
     CommonOptions common;
 };
 
@@ -54,43 +63,114 @@ bool hasExtension(const std::string &path, const char *dotExt) {
 bool isExrPath(const std::string &path) { return hasExtension(path, ".exr"); }
 bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
 
+/// `picture: {kind: field}`: the field itself (streamlines, singularities and, if
+/// asked, separatrices) instead of the hatching, as in the paper's Figures 2-5.
+void renderFieldPictureScene(const scenes::SceneDesc &desc, const scenes::Scene &scene,
+                             const field::TangentFrames &frames, const field::RosyField &rosyField,
+                             const field::SingularityReport &singularities,
+                             const std::vector<std::string> &outputs, const std::string &svgPath,
+                             Timings &timings) {
+    if (!svgPath.empty())
+        throw InputError(desc.picture.kind.loc, "a field picture is an image, not strokes, so it has no SVG",
+                         "write .png/.exr/.tif/.jpg, or use picture.kind: hatching for an SVG");
+    std::vector<field::Separatrix> separatrices;
+    if (desc.picture.separatrices.value)
+        separatrices = timings.time("separatrices", [&] {
+            return field::traceSeparatrices(frames, rosyField, singularities.singularities);
+        });
+    renderer::FieldPictureOptions options;
+    if (desc.lightsGiven) options.lights = scene.lights;
+    const renderer::Image image = timings.time("field_picture", [&] {
+        return renderer::renderFieldPicture(scene.mesh, frames, rosyField, singularities, separatrices, scene.camera,
+                                            options);
+    });
+    timings.time("write", [&] {
+        for (const std::string &output : outputs) renderer::writeImage(image, output);
+    });
+}
+
 void runRender(const RenderOptions &opt) {
     const auto start = std::chrono::steady_clock::now();
-    std::optional<tbb::global_control> threadLimit;
-    if (opt.common.threads > 0)
-        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
     setProgressEnabled(!opt.common.quiet);
 
     Timings timings;
-    scenes::SceneDesc desc = timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath); });
-    std::string output = desc.output.value;
-    if (!opt.outputPath.empty()) {
-        if (!renderer::isSupportedImagePath(opt.outputPath) && !isSvgPath(opt.outputPath))
-            throw InputError(FileLoc{opt.outputPath}, "-o: unsupported image extension",
-                             std::string("use one of ") + renderer::supportedImageExtensions() + " .svg");
-        output = opt.outputPath;
+    scenes::SceneDesc desc = timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides); });
+    // --threads beats the scene's `threads`; 0 = all cores.
+    const int threads = opt.threadsGiven ? opt.common.threads : desc.threads.value;
+    std::optional<tbb::global_control> threadLimit;
+    if (threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    // Every file this render writes: the scene's `output` list, or every -o, plus --svg.
+    std::vector<std::string> outputs;
+    for (const auto &o : desc.outputs) outputs.push_back(o.value);
+    if (!opt.outputPaths.empty()) {
+        outputs.clear();
+        for (const std::string &o : opt.outputPaths) {
+            if (!renderer::isSupportedImagePath(o) && !isSvgPath(o))
+                throw InputError(FileLoc{o}, "-o: unsupported image extension",
+                                 std::string("use one of ") + renderer::supportedImageExtensions() + " .svg");
+            if (std::find(outputs.begin(), outputs.end(), o) != outputs.end())
+                throw InputError(FileLoc{o}, "-o: the same output is given twice", "give each file once");
+            outputs.push_back(o);
+        }
     }
-    renderer::SvgOptions svgOptions;
-    if (isSvgPath(output)) {
-        const auto paper = renderer::parsePaperSize(opt.paper);
-        if (!paper)
-            throw InputError(FileLoc{"--paper"}, "unknown paper size '" + opt.paper + "'",
-                             "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
-        if (!(opt.marginMm >= 0) || 2 * opt.marginMm >= std::min(paper->first, paper->second))
-            throw InputError(FileLoc{"--margin-mm"}, "margin " + (std::ostringstream() << opt.marginMm).str() +
-                                                          " mm leaves no room on the page",
+    if (!opt.svgPath.empty() && !isSvgPath(opt.svgPath))
+        throw InputError(FileLoc{opt.svgPath}, "--svg: the file name must end in .svg", "name it like out/bunny.svg");
+    if (!opt.svgPath.empty() && std::find(outputs.begin(), outputs.end(), opt.svgPath) == outputs.end())
+        outputs.push_back(opt.svgPath);
+    const std::string output = outputs.front(); // named in the report
+    std::vector<std::string> svgPaths, rasterPaths;
+    for (const std::string &o : outputs) (isSvgPath(o) ? svgPaths : rasterPaths).push_back(o);
+    // The SVG (if any): an .svg output or --svg. Page from the style's `page`, then
+    // the command-line overrides.
+    const std::string svgPath = svgPaths.empty() ? std::string() : svgPaths.front();
+    renderer::SvgOptions svgOptions = renderer::svgOptionsFor(desc.style.style.page);
+    if (!svgPath.empty()) {
+        if (!opt.paper.empty()) {
+            const auto paper = renderer::parsePaperSize(opt.paper);
+            if (!paper)
+                throw InputError(FileLoc{"--paper"}, "unknown paper size '" + opt.paper + "'",
+                                 "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
+            std::tie(svgOptions.pageWidthMm, svgOptions.pageHeightMm) = *paper;
+        }
+        if (opt.marginMm) svgOptions.marginMm = *opt.marginMm;
+        if (!(svgOptions.marginMm >= 0) ||
+            2 * svgOptions.marginMm >= std::min(svgOptions.pageWidthMm, svgOptions.pageHeightMm))
+            throw InputError(FileLoc{opt.marginMm ? "--margin-mm" : "--paper"},
+                             "margin " + (std::ostringstream() << svgOptions.marginMm).str() +
+                                 " mm leaves no room on a " + (std::ostringstream() << svgOptions.pageWidthMm).str() +
+                                 "x" + (std::ostringstream() << svgOptions.pageHeightMm).str() + " mm page",
                              "use a margin of at least 0 and less than half the paper's shorter side");
-        svgOptions.pageWidthMm = paper->first;
-        svgOptions.pageHeightMm = paper->second;
-        svgOptions.marginMm = opt.marginMm;
+        using O = styles::PageStyle::Orientation;
+        if (opt.orientation == "auto") svgOptions.orientation = O::Auto;
+        else if (opt.orientation == "portrait") svgOptions.orientation = O::Portrait;
+        else if (opt.orientation == "landscape") svgOptions.orientation = O::Landscape;
+        else if (!opt.orientation.empty())
+            throw InputError(FileLoc{"--orientation"}, "unknown orientation '" + opt.orientation + "'",
+                             "use auto, portrait or landscape");
+        if (opt.penMm) {
+            if (!(*opt.penMm >= 0 && *opt.penMm <= 10))
+                throw InputError(FileLoc{"--pen-mm"}, "pen width must be in [0, 10] mm",
+                                 "use a plotter pen's width such as 0.3, or 0 for the style's widths");
+            svgOptions.penWidthMm = *opt.penMm;
+        }
         svgOptions.plotterPass = !opt.noPlotter;
     }
-    // Fail on an unwritable destination before spending time on the render.
-    checkWritable(output);
+    // Fail on any unwritable destination before spending time on the render: then
+    // nothing at all is written.
+    for (const std::string &o : outputs) checkWritable(o);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
     if (!opt.reportPath.empty()) checkWritable(opt.reportPath);
+    std::vector<std::string> written = outputs;
+    written.push_back(opt.reportPath);
+    written.push_back(opt.common.timingsPath);
+    for (const std::string &out : written) {
+        checkNotAnInput(out, opt.scenePath, "scene file");
+        if (desc.mesh.file) checkNotAnInput(out, desc.mesh.file->value, "input mesh");
+        if (!desc.style.presetPath.empty()) checkNotAnInput(out, desc.style.presetPath, "style preset");
+    }
 
-    scenes::Scene scene = timings.time("load", [&] { return scenes::buildScene(desc); });
+    scenes::Scene scene =
+        timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
     const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });
     field::FieldResult fieldResult = timings.time("field", [&] {
         field::FieldResult r = field::buildField(frames, desc.field.spec);
@@ -99,6 +179,17 @@ void runRender(const RenderOptions &opt) {
     });
     const field::SingularityReport singularities =
         timings.time("singularities", [&] { return field::findSingularities(frames, fieldResult.field); });
+    if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field) {
+        if (!opt.reportPath.empty())
+            throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
+                             "drop --report, or set picture.kind: hatching");
+        renderFieldPictureScene(desc, scene, frames, fieldResult.field, singularities, rasterPaths, svgPath, timings);
+        if (!opt.common.timingsPath.empty())
+            timings.write(opt.common.timingsPath,
+                          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        for (const std::string &o : outputs) std::cout << o << "\n";
+        return;
+    }
     auto rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
 
     renderer::IllustrationInput input;
@@ -116,14 +207,19 @@ void runRender(const RenderOptions &opt) {
 
     std::optional<renderer::SvgReport> svgReport;
     timings.time("write", [&] {
-        if (isSvgPath(output)) {
-            svgReport.emplace();
-            renderer::writeSvg(il.strokes, svgOptions, output, &*svgReport);
-        } else if (isExrPath(output))
-            renderer::writeImage(renderer::illustrationExr(il), output,
-                                 renderer::inkExrWriteOptions(renderer::nominalHatchSpacingPx(scene.style.hatch)));
-        else
-            renderer::writeImage(il.composite, output);
+        for (const std::string &path : svgPaths) {
+            // The report describes the first SVG; the others are the same drawing.
+            renderer::SvgReport report;
+            renderer::writeSvg(il.strokes, svgOptions, path, &report);
+            if (!svgReport) svgReport = report;
+        }
+        for (const std::string &path : rasterPaths) {
+            if (isExrPath(path))
+                renderer::writeImage(renderer::illustrationExr(il), path,
+                                     renderer::inkExrWriteOptions(renderer::nominalHatchSpacingPx(scene.style.hatch)));
+            else
+                renderer::writeImage(il.composite, path);
+        }
     });
     const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!opt.reportPath.empty()) {
@@ -144,6 +240,8 @@ void runRender(const RenderOptions &opt) {
             json.field("pendown_mm", svgReport->penDownMm);
             json.field("penup_ratio_vs_unsorted", svgReport->penUpRatioVsUnsorted);
             json.field("paths", svgReport->paths);
+            json.field("overlap_removed_mm", svgReport->overlapRemovedMm);
+            json.field("page_mm", (std::ostringstream() << svgReport->pageWidthMm << "x" << svgReport->pageHeightMm).str());
         }
         json.key("warnings").beginObject();
         for (const auto &[kind, count] : warningCounts()) json.field(kind, count);
@@ -152,7 +250,8 @@ void runRender(const RenderOptions &opt) {
         writeTextAtomically(opt.reportPath, json.str());
     }
     if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath, totalMs);
-    std::cout << output << "\n"; // the written path, also with --quiet (scripts read it)
+    // The written paths, one a line, also with --quiet (scripts read them).
+    for (const std::string &o : outputs) std::cout << o << "\n";
 }
 
 } // namespace
@@ -161,19 +260,33 @@ void addRenderCommand(CLI::App &app, Action &action) {
     auto opt = std::make_shared<RenderOptions>();
     CLI::App *sub = app.add_subcommand("render", "render a scene as a pen-and-ink illustration (PNG/TIFF/JPEG, or EXR with channels)");
     sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md)")->required();
-    sub->add_option("-o,--output", opt->outputPath,
+    sub->add_option("-o,--output", opt->outputPaths,
                     "output image (.png .exr .tif .tiff .jpg .jpeg) or layered vector drawing (.svg); "
-                    "overrides the scene's output");
-    sub->add_option("--paper", opt->paper, "SVG page size: a4 (default), a3, letter, or WIDTHxHEIGHT in mm");
-    sub->add_option("--margin-mm", opt->marginMm, "SVG page margin in mm (default 10); the picture is fitted inside");
+                    "repeatable, all from one render; overrides the scene's output list")
+        ->allow_extra_args(false);
+    sub->add_option("--svg", opt->svgPath, "also write the layered SVG of the same render (next to a raster -o)");
+    sub->add_option("--paper", opt->paper,
+                    "SVG page size: a4, a3, letter, or WIDTHxHEIGHT in mm (default: the style's page.size, a4)");
+    sub->add_option("--margin-mm", opt->marginMm,
+                    "SVG page margin in mm (default: the style's page.margin_mm, 10); the picture is fitted inside");
+    sub->add_option("--orientation", opt->orientation,
+                    "SVG page orientation: auto (turn the page if the picture gets larger), portrait, landscape "
+                    "(default: the style's page.orientation, auto)");
+    sub->add_option("--pen-mm", opt->penMm,
+                    "SVG: draw every path with this pen width in mm (default: the style's page.pen_width_mm; "
+                    "0 = each stroke's own width scaled to the page)");
     sub->add_flag("--no-plotter", opt->noPlotter,
                   "SVG: skip the plotter pass (merging strokes whose ends meet within 0.5 px, "
                   "simplifying within 0.25 px, ordering to cut pen-up travel)");
     sub->add_option("--report", opt->reportPath,
                     "write stroke statistics (strokes, ink length, spacing violations, strokes near singularities; "
                     "with an SVG output also penup_mm, pendown_mm, penup_ratio_vs_unsorted, paths) as JSON");
+    addSetOption(*sub, opt->overrides);
     addCommonOptions(*sub, opt->common);
-    sub->callback([opt, &action] { action = [opt] { runRender(*opt); }; });
+    sub->callback([opt, sub, &action] {
+        opt->threadsGiven = sub->get_option("--threads")->count() > 0;
+        action = [opt] { runRender(*opt); };
+    });
 }
 
 } // namespace rosy::cli

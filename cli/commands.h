@@ -29,14 +29,31 @@ void addInspectCommand(CLI::App &app, Action &action);
 /// Adds `rosyhatch styles` (the style presets with their descriptions).
 void addStylesCommand(CLI::App &app, Action &action);
 
+/// Adds `rosyhatch compare SCENE.yaml` (labeled side-by-side panels of several fields).
+void addCompareCommand(CLI::App &app, Action &action);
+
+/// Adds the repeatable `--set dotted.key=VALUE` scene override (see scenes::parseSceneFile).
+void addSetOption(CLI::App &sub, std::vector<std::string> &overrides);
+
+/// Adds `rosyhatch diff A B` (image comparison with idiff's thresholds and exit codes).
+void addDiffCommand(CLI::App &app, Action &action);
+
+/// Thrown by a subcommand whose outcome is not an error but still a nonzero exit
+/// status (diff: 1 warning, 2 failure, as idiff); main() returns `code`.
+struct ExitWith {
+    int code;
+};
+
 /// Options every working subcommand shares.
 struct CommonOptions {
     int threads = 0;         ///< 0 = all cores
     bool quiet = false;      ///< no progress bars, no informational lines
     std::string timingsPath; ///< empty = no timings file
+    /// --max-faces: mesh files with more faces are rejected before allocating.
+    long long maxFaces = 20'000'000;
 };
 
-/// Adds --threads, --quiet and --timings to a subcommand.
+/// Adds --threads, --quiet, --timings and --max-faces to a subcommand.
 void addCommonOptions(CLI::App &sub, CommonOptions &options);
 
 /// Wall-clock seconds per named stage, in the order the stages ran.

@@ -9,10 +9,22 @@
 namespace rosy::cli {
 
 void addCommonOptions(CLI::App &sub, CommonOptions &options) {
-    sub.add_option("--threads", options.threads, "worker threads (0 = all cores); results do not depend on it")
+    sub.add_option("--threads", options.threads, "worker threads (0 = all cores; render and compare: overrides the scene's threads); "
+                   "results do not depend on it")
         ->check(CLI::Range(0, 4096));
     sub.add_flag("-q,--quiet", options.quiet, "no progress bars or informational output");
     sub.add_option("--timings", options.timingsPath, "write per-stage wall-clock seconds as JSON to FILE");
+    sub.add_option("--max-faces", options.maxFaces,
+                   "reject mesh files with more faces than this, before reading them (default 20000000)")
+        ->check(CLI::Range(1LL, 2'000'000'000LL));
+}
+
+void addSetOption(CLI::App &sub, std::vector<std::string> &overrides) {
+    sub.add_option("--set", overrides,
+                   "override a scene key by its dotted path before validation, VALUE parsed as YAML: "
+                   "--set field.symmetry=2 --set 'camera.resolution=[512,512]'; repeatable, applied in order")
+        ->allow_extra_args(false)
+        ->type_name("KEY=VALUE");
 }
 
 void Timings::write(const std::string &path, double totalMs) const {

@@ -9,9 +9,14 @@
 
 #include "core/error.h"
 
+#include <csignal>
 #include <iostream>
 
 int main(int argc, char **argv) {
+    // Past a file size limit (ulimit -f) the kernel would kill us with SIGXFSZ,
+    // leaving the temporary output behind; ignored, the write fails with EFBIG,
+    // which the writers report as an IoError (exit 3) after removing the temporary.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"rosyhatch: pen-and-ink rendering along N-RoSy fields"};
     app.name("rosyhatch");
     app.set_version_flag("--version", std::string("rosyhatch ") + ROSY_VERSION);
@@ -23,6 +28,8 @@ int main(int argc, char **argv) {
     rosy::cli::addFieldCommand(app, action);
     rosy::cli::addInspectCommand(app, action);
     rosy::cli::addStylesCommand(app, action);
+    rosy::cli::addDiffCommand(app, action);
+    rosy::cli::addCompareCommand(app, action);
 
     try {
         app.parse(argc, argv);
@@ -35,6 +42,8 @@ int main(int argc, char **argv) {
     try {
         if (action) action();
         return 0;
+    } catch (const rosy::cli::ExitWith &e) {
+        return e.code;
     } catch (const rosy::InputError &e) {
         std::cerr << e.what() << "\n";
         return 2;

@@ -12,7 +12,14 @@ namespace rosy {
 /// Checks before any work is done that `path` can be written: its folder exists,
 /// is a folder and is writable, and `path` itself is not a folder.
 /// Throws IoError naming the path otherwise.
+/// Also creates and removes a probe file there, so read-only mounts and root's
+/// view of permissions are judged by the file system itself.
 void checkWritable(const std::string &path);
+
+/// Throws InputError (exit 2) if `output` names the same existing file as `input`
+/// (also through links or another spelling of the path); `what` names the input
+/// in the message ("input mesh"). Nothing happens when either does not exist.
+void checkNotAnInput(const std::string &output, const std::string &input, const std::string &what);
 
 /// Calls write(tmpPath) to produce the file at a temporary path next to `path`,
 /// then renames it over `path`. If write throws or the rename fails, the

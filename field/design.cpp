@@ -2,6 +2,7 @@
 
 #include "core/diagnostics.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "field/smoothing.h"
 
 #include "field/multilevel.h"
@@ -151,29 +152,19 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
     Eigen::VectorXcd result = values.size() == nV ? values : Eigen::VectorXcd::Zero(nV);
     if (nFree == 0) return result;
     Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(nFree);
-    std::vector<Eigen::Triplet<Complex>> trip;
-    trip.reserve(nFree + 2 * mesh.nEdges());
 
     if (options.weights == LaplaceWeights::Cotan) {
         // Σ_j w_ij (u_i − T_ij u_j) = 0 is the free block of the Hermitian connection
-        // Laplacian: Cholesky instead of LU. The guide term is the normalised row's
+        // Laplacian: two-level CG. The guide term is the normalised row's
         // g (u_i − q_i) multiplied back by the row sum A_ii.
-        const SparseMatrixC A = connectionLaplacian(frames, nSym);
-        for (int k = 0; k < A.outerSize(); ++k)
-            for (SparseMatrixC::InnerIterator it(A, k); it; ++it) {
-                const int i = int(it.row()), j = int(it.col());
-                if (freeId[i] < 0) continue;
-                if (freeId[j] < 0) {
-                    rhs[freeId[i]] -= it.value() * result[j];
-                } else if (i == j) {
-                    trip.emplace_back(freeId[i], freeId[i], (1.0 + g) * it.value());
-                    if (g > 0) rhs[freeId[i]] += g * it.value().real() * options.guide->u[i];
-                } else {
-                    trip.emplace_back(freeId[i], freeId[j], it.value());
+        SparseMatrixC K = freeBlock(connectionLaplacian(frames, nSym), freeId, nFree, result, rhs);
+        if (g > 0)
+            for (int v = 0; v < nV; ++v)
+                if (freeId[v] >= 0) {
+                    Complex &d = K.coeffRef(freeId[v], freeId[v]);
+                    rhs[freeId[v]] += g * d.real() * options.guide->u[v];
+                    d *= 1.0 + g;
                 }
-            }
-        SparseMatrixC K(nFree, nFree);
-        K.setFromTriplets(trip.begin(), trip.end());
         const Eigen::VectorXcd x = solveHermitianSystem(frames, nSym, freeId, K, rhs);
         for (int v = 0; v < nV; ++v)
             if (freeId[v] >= 0) result[v] = x[freeId[v]];
@@ -181,33 +172,63 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
     }
 
     // The paper's form (Eq. 14–15): u_i − Σ_j ω_ij T_ij u_j = 0 with row-normalised
-    // mean-value weights, a general (non-symmetric) system.
-    const Eigen::SparseMatrix<double> W = relaxationWeights(mesh, options.weights);
-    for (int v = 0; v < nV; ++v) {
-        if (freeId[v] < 0) continue;
-        trip.emplace_back(freeId[v], freeId[v], Complex(1.0 + g, 0.0));
-        if (g > 0) rhs[freeId[v]] += g * options.guide->u[v];
+    // mean-value weights, a general (non-symmetric) system, built by rows in
+    // parallel (T_ij the transport from j to i across the edge).
+    std::vector<int> outer(size_t(nFree) + 1, 0);
+    std::vector<int> rowVertex(nFree);
+    for (int v = 0; v < nV; ++v)
+        if (freeId[v] >= 0) {
+            rowVertex[freeId[v]] = v;
+            outer[freeId[v] + 1] = outer[freeId[v]] + mesh.valence(v) + 1;
+        }
+    std::vector<int> inner(outer.back());
+    std::vector<Complex> value(outer.back());
+    std::vector<int> rowSize(nFree);
+    parallelFor(0, nFree, [&](int64_t row) {
+        const int i = rowVertex[row];
+        std::vector<NeighbourWeight> w;
+        meanValueWeights(mesh, i, w);
+        std::vector<std::pair<int, Complex>> entry;
+        entry.reserve(w.size() + 1);
+        entry.push_back({int(row), Complex(1.0 + g, 0.0)});
+        Complex b = g > 0 ? g * options.guide->u[i] : Complex(0, 0);
+        for (const NeighbourWeight &nw : w) {
+            const int j = nw.vertex;
+            const double wij = nw.weight;
+            const int h = mesh.edgeHalfedge(mesh.edgeOf(nw.halfedge));
+            const Complex r = std::polar(1.0, nSym * frames.transportAngle(h));
+            const Complex a = -wij * (mesh.tail(h) == i ? r : std::conj(r));
+            if (freeId[j] >= 0)
+                entry.push_back({freeId[j], a});
+            else
+                b -= a * result[j];
+        }
+        std::sort(entry.begin(), entry.end(), [](const auto &p, const auto &q) { return p.first < q.first; });
+        for (size_t t = 0; t < entry.size(); ++t) {
+            inner[outer[row] + t] = entry[t].first;
+            value[outer[row] + t] = entry[t].second;
+        }
+        rowSize[row] = int(entry.size());
+        rhs[row] = b;
+    }, 1024);
+    // Close the gaps left by fixed neighbours.
+    int nnz = 0;
+    for (int row = 0; row < nFree; ++row) {
+        const int begin = outer[row];
+        outer[row] = nnz;
+        for (int t = 0; t < rowSize[row]; ++t) {
+            inner[nnz] = inner[begin + t];
+            value[nnz] = value[begin + t];
+            ++nnz;
+        }
     }
-    // Row i: −ω_ij T_ij u_j, with T_ij the transport from j to i across the edge.
-    auto addOffDiagonal = [&](int i, int j, Complex r) {
-        if (freeId[i] < 0) return;
-        const Complex a = -W.coeff(i, j) * r;
-        if (freeId[j] >= 0)
-            trip.emplace_back(freeId[i], freeId[j], a);
-        else
-            rhs[freeId[i]] -= a * result[j];
-    };
-    for (int e = 0; e < mesh.nEdges(); ++e) {
-        const int h = mesh.edgeHalfedge(e);
-        const int i = mesh.tail(h), j = mesh.head(h);
-        const Complex r = std::polar(1.0, nSym * frames.transportAngle(h)); // j -> i
-        addOffDiagonal(i, j, r);
-        addOffDiagonal(j, i, std::conj(r));
-    }
-    SparseMatrixC K(nFree, nFree);
-    K.setFromTriplets(trip.begin(), trip.end());
-    K.makeCompressed();
-    const Eigen::VectorXcd x = solveGeneral(K, rhs);
+    outer[nFree] = nnz;
+    SparseMatrixRowC K(nFree, nFree);
+    K.resizeNonZeros(nnz);
+    std::copy(outer.begin(), outer.end(), K.outerIndexPtr());
+    std::copy(inner.begin(), inner.begin() + nnz, K.innerIndexPtr());
+    std::copy(value.begin(), value.begin() + nnz, K.valuePtr());
+    const Eigen::VectorXcd x = solveGeneralSystem(frames, nSym, freeId, K, rhs);
     for (int v = 0; v < nV; ++v)
         if (freeId[v] >= 0) result[v] = x[freeId[v]];
     return result;

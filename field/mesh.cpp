@@ -30,37 +30,40 @@ Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
             throw InputError(loc, "face " + std::to_string(f) + " repeats a vertex");
     }
 
-    // Twins by sorting directed edges (tail, head). Each directed edge must be
-    // unique: a repeat means an edge with more than two faces or two faces that
-    // disagree on orientation.
+    // Twins from the outgoing halfedges of each vertex, bucketed by tail (a
+    // counting sort) and sorted by (head, halfedge) within each bucket. Each
+    // directed edge must be unique: a repeat means an edge with more than two
+    // faces or two faces that disagree on orientation.
     const int nH = 3 * nF;
-    std::vector<uint64_t> key(nH);
-    for (int h = 0; h < nH; ++h) {
-        int a = faces[h / 3][h % 3], b = faces[h / 3][(h % 3 + 1) % 3];
-        key[h] = (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+    auto tailOf = [&](int h) { return faces[h / 3][h % 3]; };
+    auto headOf = [&](int h) { return faces[h / 3][(h % 3 + 1) % 3]; };
+    std::vector<int> outStart(size_t(nV) + 1, 0);
+    for (int h = 0; h < nH; ++h) ++outStart[size_t(tailOf(h)) + 1];
+    for (int v = 0; v < nV; ++v) outStart[v + 1] += outStart[v];
+    std::vector<std::pair<int, int>> out(nH); // (head, halfedge)
+    {
+        std::vector<int> fill(outStart.begin(), outStart.end() - 1);
+        for (int h = 0; h < nH; ++h) out[fill[tailOf(h)]++] = {headOf(h), h};
     }
-    std::vector<int> order(nH);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int x, int y) {
-        return key[x] != key[y] ? key[x] < key[y] : x < y;
-    });
-    for (int i = 1; i < nH; ++i)
-        if (key[order[i]] == key[order[i - 1]]) {
-            int h = order[i];
-            int a = faces[h / 3][h % 3], b = faces[h / 3][(h % 3 + 1) % 3];
-            throw InputError(loc,
-                             "edge (" + std::to_string(a) + ", " + std::to_string(b) +
-                                 ") is used in the same direction by faces " +
-                                 std::to_string(order[i - 1] / 3) + " and " + std::to_string(h / 3),
-                             "the surface is non-manifold or inconsistently oriented there; "
-                             "load it through loadMesh() to repair it");
-        }
+    for (int v = 0; v < nV; ++v) {
+        const auto first = out.begin() + outStart[v], last = out.begin() + outStart[v + 1];
+        std::sort(first, last);
+        for (auto it = first; it + 1 < last; ++it)
+            if (it->first == (it + 1)->first)
+                throw InputError(loc,
+                                 "edge (" + std::to_string(v) + ", " + std::to_string(it->first) +
+                                     ") is used in the same direction by faces " + std::to_string(it->second / 3) +
+                                     " and " + std::to_string((it + 1)->second / 3),
+                                 "the surface is non-manifold or inconsistently oriented there; "
+                                 "load it through loadMesh() to repair it");
+    }
     m.m_twin.assign(nH, -1);
     for (int h = 0; h < nH; ++h) {
-        uint64_t rev = (key[h] << 32) | (key[h] >> 32);
-        auto it = std::lower_bound(order.begin(), order.end(), rev,
-                                   [&](int x, uint64_t k) { return key[x] < k; });
-        if (it != order.end() && key[*it] == rev) m.m_twin[h] = *it;
+        // The twin of a -> b is b -> a: look for head a among b's outgoing halfedges.
+        const int a = tailOf(h), b = headOf(h);
+        const auto first = out.begin() + outStart[b], last = out.begin() + outStart[b + 1];
+        const auto it = std::lower_bound(first, last, std::pair<int, int>(a, -1));
+        if (it != last && it->first == a) m.m_twin[h] = it->second;
     }
 
     // Edges: one id per halfedge pair, numbered in halfedge order (deterministic).

@@ -129,32 +129,41 @@ std::string lower(std::string s) {
 }
 
 // ---------------------------------------------------------------------------
-// Pre-scan. OpenMesh's readers trust header counts (they reserve and loop
-// from them), silently turn "nan" into a failed stream, and drop bad faces
-// with a message on omerr only. We therefore check headers, coordinates and
-// indices of text formats ourselves first, where a line and column can be named.
+// Readers. Text formats (OFF, OBJ, ASCII PLY, ASCII STL) and binary STL are
+// parsed here in one pass, so every problem is named at its line and column
+// (or triangle number) and nothing is allocated from an unchecked count.
+// OpenMesh reads only binary PLY and binary OFF, after a pre-scan of their
+// headers: its readers reserve and loop from header counts, turn "nan" into a
+// failed stream and drop bad faces with a message on omerr only.
+// Coordinates are rounded to 32-bit floats, as OpenMesh stores them, so every
+// format gives the same positions whichever reader parsed it.
 // ---------------------------------------------------------------------------
+
+/// Coordinates beyond this are rejected: products of a few of them (areas,
+/// squared areas) must stay far from overflow. Documented in docs/meshes.md.
+constexpr double kMaxCoordinate = 1e15;
 
 /// A text file split into lines on demand, tracking 1-based line numbers.
 class LineReader {
 public:
-    explicit LineReader(const std::string &text) : m_text(text) {}
-    /// Next line (without '\n'); false at the end.
+    explicit LineReader(std::string_view text, size_t start = 0) : m_text(text), m_pos(start) {}
+    /// Next line (without '\n' and a trailing '\r'); false at the end.
     bool next(std::string_view &line) {
         if (m_pos >= m_text.size()) return false;
         size_t end = m_text.find('\n', m_pos);
         if (end == std::string::npos) end = m_text.size();
-        line = std::string_view(m_text).substr(m_pos, end - m_pos);
+        line = m_text.substr(m_pos, end - m_pos);
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         m_pos = end + 1;
         ++m_line;
         return true;
     }
     int lineNumber() const { return m_line; }
+    size_t position() const { return std::min(m_pos, m_text.size()); }
     size_t remainingBytes() const { return m_pos >= m_text.size() ? 0 : m_text.size() - m_pos; }
 
 private:
-    const std::string &m_text;
+    std::string_view m_text;
     size_t m_pos = 0;
     int m_line = 0;
 };
@@ -164,26 +173,20 @@ struct Token {
     int col = 0; // 1-based
 };
 
-std::vector<Token> tokenize(std::string_view line) {
-    std::vector<Token> tokens;
+inline bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+/// Splits a line at spaces and tabs into `tokens` (reused between calls).
+void tokenize(std::string_view line, std::vector<Token> &tokens) {
+    tokens.clear();
     size_t i = 0;
     while (i < line.size()) {
-        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        while (i < line.size() && isSpace(line[i])) ++i;
         if (i >= line.size()) break;
         size_t j = i;
-        while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+        while (j < line.size() && !isSpace(line[j])) ++j;
         tokens.push_back({line.substr(i, j - i), int(i) + 1});
         i = j;
     }
-    return tokens;
-}
-
-bool parseDouble(std::string_view s, double &value) {
-    // from_chars accepts "nan" and "inf" too, which we want to see (and reject).
-    const char *begin = s.data(), *end = s.data() + s.size();
-    if (begin != end && *begin == '+') ++begin;
-    auto [ptr, ec] = std::from_chars(begin, end, value);
-    return !s.empty() && ptr == end && (ec == std::errc() || ec == std::errc::result_out_of_range);
 }
 
 bool parseInt64(std::string_view s, int64_t &value) {
@@ -196,30 +199,55 @@ bool parseInt64(std::string_view s, int64_t &value) {
 bool isBlankOrComment(std::string_view line) {
     for (char c : line) {
         if (c == '#') return true;
-        if (!std::isspace(static_cast<unsigned char>(c))) return false;
+        if (!isSpace(c)) return false;
     }
     return true;
 }
 
-/// Checks that tokens[first..first+3) are finite numbers; throws at the offending column.
-void checkCoordinates(const std::string &path, int line, const std::vector<Token> &tokens,
-                      size_t first, int64_t vertex) {
+/// One coordinate token: a finite number within kMaxCoordinate, rounded to float.
+double coordinate(const std::string &path, int line, const Token &token, int64_t vertex) {
+    const char *begin = token.text.data(), *end = begin + token.text.size();
+    if (begin != end && *begin == '+') ++begin;
+    double x = 0;
+    auto [ptr, ec] = std::from_chars(begin, end, x);
+    if (token.text.empty() || ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
+        throw InputError(FileLoc{path, line, token.col},
+                         "expected a coordinate, found '" + std::string(token.text) + "'",
+                         "vertex lines hold numbers");
+    if (!std::isfinite(x) || ec == std::errc::result_out_of_range)
+        throw InputError(FileLoc{path, line, token.col},
+                         "vertex " + std::to_string(vertex) + " has a non-finite coordinate '" +
+                             std::string(token.text) + "'",
+                         "every coordinate must be a finite number");
+    if (std::abs(x) > kMaxCoordinate)
+        throw InputError(FileLoc{path, line, token.col},
+                         "vertex " + std::to_string(vertex) + " has an absurd coordinate '" +
+                             std::string(token.text) + "' (limit 1e15)",
+                         "rescale the mesh; rendering does not depend on its scale");
+    return double(float(x));
+}
+
+/// Reads tokens[first..first+3) as a vertex position.
+Vec3 vertexAt(const std::string &path, int line, const std::vector<Token> &tokens, size_t first,
+              int64_t vertex) {
     if (tokens.size() < first + 3)
         throw InputError(FileLoc{path, line, 1},
                          "vertex " + std::to_string(vertex) + " has fewer than 3 coordinates",
                          "write x y z on each vertex line");
-    for (size_t k = first; k < first + 3; ++k) {
-        double x;
-        if (!parseDouble(tokens[k].text, x))
-            throw InputError(FileLoc{path, line, tokens[k].col},
-                             "expected a coordinate, found '" + std::string(tokens[k].text) + "'",
-                             "vertex lines hold numbers");
-        if (!std::isfinite(x))
-            throw InputError(FileLoc{path, line, tokens[k].col},
-                             "vertex " + std::to_string(vertex) + " has a non-finite coordinate '" +
-                                 std::string(tokens[k].text) + "'",
-                             "every coordinate must be a finite number");
-    }
+    return Vec3(coordinate(path, line, tokens[first], vertex),
+                coordinate(path, line, tokens[first + 1], vertex),
+                coordinate(path, line, tokens[first + 2], vertex));
+}
+
+/// The same checks for a coordinate that arrives in binary (no column to name).
+double binaryCoordinate(const std::string &path, double x, const std::string &element) {
+    if (!std::isfinite(x))
+        throw InputError(FileLoc{path}, element + " has a non-finite coordinate",
+                         "every coordinate must be a finite number");
+    if (std::abs(x) > kMaxCoordinate)
+        throw InputError(FileLoc{path}, element + " has an absurd coordinate (limit 1e15)",
+                         "rescale the mesh; rendering does not depend on its scale");
+    return double(float(x));
 }
 
 void checkFaceCount(const std::string &path, int line, int64_t nFaces, const LoadOptions &options) {
@@ -227,11 +255,11 @@ void checkFaceCount(const std::string &path, int line, int64_t nFaces, const Loa
         throw InputError(FileLoc{path, line, 1},
                          "the file has " + std::to_string(nFaces) + " faces, more than the limit of " +
                              std::to_string(options.maxFaces),
-                         "simplify the mesh or raise the face limit");
+                         "simplify the mesh or raise the face limit (--max-faces)");
 }
 
-/// OpenMesh's OFF reader parses numbers straight off the stream, so a comment
-/// after the header line would be misread as data: name it instead.
+/// Comments after the OFF header are not part of the format (OpenMesh misreads
+/// them), so a '#' line is named rather than guessed at.
 bool isBlankOffLine(const std::string &path, int lineNumber, std::string_view line) {
     if (!isBlankOrComment(line)) return false;
     if (line.find('#') != std::string_view::npos)
@@ -241,144 +269,212 @@ bool isBlankOffLine(const std::string &path, int lineNumber, std::string_view li
     return true;
 }
 
-void prescanOff(const std::string &path, const std::string &text, const LoadOptions &options) {
+/// A face corner index token, checked against [0, nV).
+int cornerIndex(const std::string &path, int line, const Token &token, int64_t face, int64_t nV,
+                const char *hint) {
+    int64_t idx;
+    if (!parseInt64(token.text, idx) || idx < 0 || idx >= nV)
+        throw InputError(FileLoc{path, line, token.col},
+                         "face " + std::to_string(face) + " uses vertex index '" + std::string(token.text) +
+                             "' outside [0, " + std::to_string(nV) + ")",
+                         hint);
+    return int(idx);
+}
+
+/// Parses OFF. Returns false for binary OFF (header checked, left to OpenMesh).
+bool readOff(const std::string &path, std::string_view text, const LoadOptions &options, SoupImporter &soup) {
     LineReader reader(text);
     std::string_view line;
-    if (!reader.next(line) || line.find("OFF") == std::string_view::npos)
-        throw InputError(FileLoc{path, 1, 1}, "expected an OFF header line ('OFF')",
-                         "the first line of an .off file is 'OFF'");
-    if (line.find("BINARY") != std::string_view::npos) {
+    std::vector<Token> tok;
+    if (!reader.next(line)) throw InputError(FileLoc{path, 1, 1}, "expected an OFF header line ('OFF')");
+    tokenize(line, tok);
+    const std::string_view magic = tok.empty() ? std::string_view() : tok[0].text;
+    // ST, C, N, 4 and n prefixes: per-vertex extras after x y z. "4OFF"/"nOFF"
+    // change the dimension, which a surface renderer cannot use.
+    if (magic.size() < 3 || magic.substr(magic.size() - 3) != "OFF" ||
+        magic.substr(0, magic.size() - 3).find_first_not_of("STCN") != std::string_view::npos)
+        throw InputError(FileLoc{path, 1, 1},
+                         "expected an OFF header line ('OFF'), found '" +
+                             std::string(line.substr(0, std::min<size_t>(line.size(), 20))) + "'",
+                         "the first line of an .off file is 'OFF' (or COFF, NOFF, STOFF)");
+    if (tok.size() >= 2 && tok[1].text == "BINARY") {
         // Binary OFF: three 32-bit counts follow the header line.
-        size_t start = size_t(line.data() + line.size() - text.data()) + 1;
+        const size_t start = reader.position();
         if (text.size() < start + 12)
-            throw InputError(FileLoc{path, 2, 1}, "binary OFF header is truncated");
+            throw InputError(FileLoc{path, 2, 1}, "binary OFF header is truncated",
+                             "the file is truncated");
         uint32_t counts[3];
         std::memcpy(counts, text.data() + start, 12);
         checkFaceCount(path, 2, counts[1], options);
-        uint64_t need = uint64_t(counts[0]) * 12 + uint64_t(counts[1]) * 16;
+        const uint64_t need = uint64_t(counts[0]) * 12 + uint64_t(counts[1]) * 16;
         if (need > text.size() - start - 12)
             throw InputError(FileLoc{path, 2, 1},
                              "header says " + std::to_string(counts[0]) + " vertices and " +
                                  std::to_string(counts[1]) + " faces but the file is only " +
                                  std::to_string(text.size()) + " bytes",
                              "the file is truncated or its header is wrong");
-        return;
+        return false;
     }
-    // Counts line (the first non-comment line after the header).
-    std::vector<Token> tok;
-    int countsLine = 0;
-    while (reader.next(line)) {
-        if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-        tok = tokenize(line);
-        countsLine = reader.lineNumber();
-        break;
+    // Counts: on the header line after OFF, or on the first non-blank line after it.
+    int countsLine = 1;
+    tok.erase(tok.begin());
+    if (tok.empty()) {
+        countsLine = 0;
+        while (reader.next(line)) {
+            if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
+            tokenize(line, tok);
+            countsLine = reader.lineNumber();
+            break;
+        }
     }
     int64_t nV = -1, nF = -1;
-    if (countsLine == 0 || tok.size() < 2 || !parseInt64(tok[0].text, nV) ||
-        !parseInt64(tok[1].text, nF) || nV < 0 || nF < 0)
+    if (countsLine == 0 || tok.size() < 2 || !parseInt64(tok[0].text, nV) || !parseInt64(tok[1].text, nF) ||
+        nV < 0 || nF < 0)
         throw InputError(FileLoc{path, std::max(countsLine, 2), 1},
-                         "expected the vertex, face and edge counts",
+                         "expected the vertex, face and edge counts (whole numbers >= 0)",
                          "the line after 'OFF' reads e.g. '8 6 0'");
     checkFaceCount(path, countsLine, nF, options);
-    // The shortest possible vertex line is "0 0 0\n" and face line "3 0 1 2\n".
+    // Reject before allocating: the shortest vertex line is "0 0 0\n", the
+    // shortest face line "3 0 1 2\n".
     const uint64_t minBytes = uint64_t(nV) * 6 + uint64_t(nF) * 8;
     if (nV > std::numeric_limits<int>::max() || minBytes > reader.remainingBytes() + 1)
         throw InputError(FileLoc{path, countsLine, 1},
-                         "header says " + std::to_string(nV) + " vertices and " +
-                             std::to_string(nF) + " faces but the rest of the file is only " +
+                         "header says " + std::to_string(nV) + " vertices and " + std::to_string(nF) +
+                             " faces but the rest of the file is only " +
                              std::to_string(reader.remainingBytes()) + " bytes",
                          "the file is truncated or its header is wrong");
+    soup.positions.reserve(size_t(nV));
+    soup.polygons.reserve(size_t(nF));
     int64_t v = 0;
     while (v < nV && reader.next(line)) {
         if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-        checkCoordinates(path, reader.lineNumber(), tokenize(line), 0, v);
+        tokenize(line, tok);
+        soup.positions.push_back(vertexAt(path, reader.lineNumber(), tok, 0, v));
         ++v;
     }
     int64_t f = 0;
     while (f < nF && reader.next(line)) {
         if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-        tok = tokenize(line);
+        tokenize(line, tok);
         int64_t n = 0;
-        if (!parseInt64(tok[0].text, n) || n < 0 || int64_t(tok.size()) < n + 1)
+        if (!parseInt64(tok[0].text, n) || n < 1 || int64_t(tok.size()) < n + 1)
             throw InputError(FileLoc{path, reader.lineNumber(), tok[0].col},
                              "face " + std::to_string(f) + " could not be parsed",
                              "a face line reads 'n i1 ... in'");
-        for (int64_t k = 1; k <= n; ++k) {
-            int64_t idx;
-            if (!parseInt64(tok[k].text, idx) || idx < 0 || idx >= nV)
-                throw InputError(FileLoc{path, reader.lineNumber(), tok[k].col},
-                                 "face " + std::to_string(f) + " uses vertex index '" +
-                                     std::string(tok[k].text) + "' outside [0, " +
-                                     std::to_string(nV) + ")",
-                                 "indices in OFF files start at 0");
-        }
+        std::vector<int> poly(static_cast<size_t>(n));
+        for (int64_t k = 1; k <= n; ++k)
+            poly[size_t(k - 1)] = cornerIndex(path, reader.lineNumber(), tok[size_t(k)], f, nV,
+                                              "indices in OFF files start at 0");
+        soup.polygons.push_back(std::move(poly));
         ++f;
     }
     if (v < nV || f < nF)
         throw InputError(FileLoc{path, countsLine, 1},
-                         "header says " + std::to_string(nV) + " vertices and " +
-                             std::to_string(nF) + " faces but the file holds only " +
-                             std::to_string(v) + " and " + std::to_string(f),
+                         "header says " + std::to_string(nV) + " vertices and " + std::to_string(nF) +
+                             " faces but the file holds only " + std::to_string(v) + " and " +
+                             std::to_string(f),
                          "the file is truncated or its header is wrong");
+    return true;
 }
 
-void prescanObj(const std::string &path, const std::string &text, const LoadOptions &options) {
+void readObj(const std::string &path, std::string_view text, const LoadOptions &options, SoupImporter &soup) {
     LineReader reader(text);
     std::string_view line;
-    int64_t nV = 0, nF = 0;
+    std::vector<Token> tok;
+    int64_t nF = 0;
     while (reader.next(line)) {
-        std::vector<Token> tok = tokenize(line);
+        tokenize(line, tok);
         if (tok.empty()) continue;
         if (tok[0].text == "v") {
-            checkCoordinates(path, reader.lineNumber(), tok, 1, nV);
-            ++nV;
+            soup.positions.push_back(vertexAt(path, reader.lineNumber(), tok, 1, int64_t(soup.positions.size())));
         } else if (tok[0].text == "f") {
+            const int64_t nV = int64_t(soup.positions.size());
+            if (tok.size() < 2)
+                throw InputError(FileLoc{path, reader.lineNumber(), 1}, "face without vertices",
+                                 "a face line reads 'f i1 i2 i3 ...'");
+            std::vector<int> poly(tok.size() - 1);
             for (size_t k = 1; k < tok.size(); ++k) {
                 std::string_view s = tok[k].text.substr(0, tok[k].text.find('/'));
                 int64_t idx;
+                // 1-based; negative indices count back from the last vertex read (OBJ spec).
                 if (!parseInt64(s, idx) || idx == 0 || idx > nV || idx < -nV)
                     throw InputError(FileLoc{path, reader.lineNumber(), tok[k].col},
-                                     "face uses vertex index '" + std::string(s) +
-                                         "' but only " + std::to_string(nV) +
-                                         " vertices are defined before it",
+                                     "face uses vertex index '" + std::string(s) + "' but only " +
+                                         std::to_string(nV) + " vertices are defined before it",
                                      "OBJ indices start at 1 (negative ones count back)");
+                poly[k - 1] = int(idx > 0 ? idx - 1 : nV + idx);
             }
+            soup.polygons.push_back(std::move(poly));
             if (++nF > options.maxFaces) checkFaceCount(path, reader.lineNumber(), nF, options);
         }
     }
 }
 
-void prescanStl(const std::string &path, const std::string &text, const LoadOptions &options) {
-    // OpenMesh decides "binary" purely from the size, so we do the same.
+/// Appends corner `p` of an STL triangle, welding bit-identical corners (STL
+/// repeats every corner per triangle; welding them is reading, not repair).
+struct StlWelder {
+    std::unordered_map<uint64_t, std::vector<int>> buckets;
+    int add(SoupImporter &soup, const Vec3 &p) {
+        float c[3] = {float(p.x()), float(p.y()), float(p.z())};
+        // -0 and +0 are the same point.
+        for (float &x : c)
+            if (x == 0.0f) x = 0.0f;
+        uint32_t b[3];
+        std::memcpy(b, c, 12);
+        const uint64_t h = (uint64_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^
+                           (uint64_t(b[2]) * 0x165667B19E3779F9ull);
+        std::vector<int> &bucket = buckets[h];
+        for (int v : bucket)
+            if (soup.positions[v] == Vec3(c[0], c[1], c[2])) return v;
+        soup.positions.emplace_back(c[0], c[1], c[2]);
+        bucket.push_back(int(soup.positions.size()) - 1);
+        return bucket.back();
+    }
+};
+
+void readStl(const std::string &path, std::string_view text, const LoadOptions &options, SoupImporter &soup) {
+    StlWelder welder;
+    // Binary exactly when the size is 84 + 50 n (as OpenMesh decides).
     if (text.size() >= 84) {
         uint32_t n;
         std::memcpy(&n, text.data() + 80, 4);
         if (text.size() == 84 + 50 * uint64_t(n)) {
             checkFaceCount(path, 0, n, options);
-            // Its vertex welding compares floats in a std::map: a NaN breaks the
-            // ordering (undefined behaviour), so non-finite values never get there.
-            for (uint32_t t = 0; t < n; ++t)
-                for (int k = 0; k < 9; ++k) {
-                    float x;
-                    std::memcpy(&x, text.data() + 84 + 50 * size_t(t) + 12 + 4 * k, 4);
-                    if (!std::isfinite(x))
-                        throw InputError(FileLoc{path},
-                                         "triangle " + std::to_string(t) +
-                                             " has a non-finite vertex coordinate",
-                                         "every coordinate must be a finite number");
+            soup.polygons.reserve(n);
+            for (uint32_t t = 0; t < n; ++t) {
+                std::vector<int> tri(3);
+                for (int k = 0; k < 3; ++k) {
+                    float c[3];
+                    std::memcpy(c, text.data() + 84 + 50 * size_t(t) + 12 + 12 * k, 12);
+                    const std::string what = "triangle " + std::to_string(t);
+                    Vec3 p(binaryCoordinate(path, c[0], what), binaryCoordinate(path, c[1], what),
+                           binaryCoordinate(path, c[2], what));
+                    tri[k] = welder.add(soup, p);
                 }
+                soup.polygons.push_back(std::move(tri));
+            }
             return;
         }
     }
     LineReader reader(text);
     std::string_view line;
+    std::vector<Token> tok;
     bool first = true;
-    int64_t nF = 0, nVertex = 0;
+    int64_t nF = 0, nCorner = 0;
+    std::vector<int> tri;
+    int facetLine = 0;
+    auto lowerIs = [](std::string_view s, const char *word) {
+        const size_t n = std::strlen(word);
+        if (s.size() != n) return false;
+        for (size_t i = 0; i < n; ++i)
+            if (std::tolower(static_cast<unsigned char>(s[i])) != word[i]) return false;
+        return true;
+    };
     while (reader.next(line)) {
-        std::vector<Token> tok = tokenize(line);
+        tokenize(line, tok);
         if (tok.empty()) continue;
         if (first) {
-            if (lower(std::string(tok[0].text)) != "solid")
+            if (!lowerIs(tok[0].text, "solid"))
                 throw InputError(FileLoc{path, reader.lineNumber(), 1},
                                  "neither ASCII STL (no 'solid' keyword) nor binary STL (size " +
                                      std::to_string(text.size()) + " is not 84 + 50 n bytes)",
@@ -386,65 +482,110 @@ void prescanStl(const std::string &path, const std::string &text, const LoadOpti
             first = false;
             continue;
         }
-        std::string key = lower(std::string(tok[0].text));
-        if (key == "facet") {
+        if (lowerIs(tok[0].text, "facet")) {
+            if (!tri.empty())
+                throw InputError(FileLoc{path, facetLine, 1},
+                                 "facet " + std::to_string(nF - 1) + " has " + std::to_string(tri.size()) +
+                                     " vertices", "each facet has exactly 3 vertex lines");
+            facetLine = reader.lineNumber();
             if (++nF > options.maxFaces) checkFaceCount(path, reader.lineNumber(), nF, options);
-        } else if (key == "vertex") {
-            checkCoordinates(path, reader.lineNumber(), tok, 1, nVertex++);
+        } else if (lowerIs(tok[0].text, "vertex")) {
+            tri.push_back(welder.add(soup, vertexAt(path, reader.lineNumber(), tok, 1, nCorner++)));
+            if (tri.size() > 3)
+                throw InputError(FileLoc{path, reader.lineNumber(), 1},
+                                 "facet " + std::to_string(nF - 1) + " has more than 3 vertices",
+                                 "each facet has exactly 3 vertex lines");
+        } else if (lowerIs(tok[0].text, "endfacet")) {
+            if (tri.size() != 3)
+                throw InputError(FileLoc{path, reader.lineNumber(), 1},
+                                 "facet " + std::to_string(nF - 1) + " has " + std::to_string(tri.size()) +
+                                     " vertices", "each facet has exactly 3 vertex lines");
+            soup.polygons.push_back(tri);
+            tri.clear();
         }
     }
     if (first) throw InputError(FileLoc{path}, "the file is empty", "export the mesh again");
+    if (!tri.empty())
+        throw InputError(FileLoc{path, reader.lineNumber(), 1},
+                         "the file ends inside facet " + std::to_string(nF - 1),
+                         "the file is truncated");
 }
+
+struct PlyProperty {
+    std::string name;
+    bool list = false;
+    int countSize = 0, itemSize = 0; // binary sizes (list: count and item type)
+};
 
 struct PlyElement {
     std::string name;
     int64_t count = 0;
     int64_t minBytes = 0; // per element, as ASCII or binary
-    std::vector<std::string> properties;
+    std::vector<PlyProperty> properties;
 };
 
-int plyTypeSize(const std::string &t) {
+int plyTypeSize(std::string_view t) {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
     if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
-        t == "float32")
+    if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32")
         return 4;
     if (t == "double" || t == "float64") return 8;
     return 0;
 }
 
-void prescanPly(const std::string &path, const std::string &text, const LoadOptions &options) {
+/// Parses a PLY header, checks its counts against the file size, and reads
+/// ASCII data. Returns false for binary data (left to OpenMesh).
+bool readPly(const std::string &path, std::string_view text, const LoadOptions &options, SoupImporter &soup) {
     LineReader reader(text);
     std::string_view line;
-    if (!reader.next(line) || tokenize(line).empty() || tokenize(line)[0].text != "ply")
+    std::vector<Token> tok;
+    if (!reader.next(line) || (tokenize(line, tok), tok.empty()) || tok[0].text != "ply")
         throw InputError(FileLoc{path, 1, 1}, "expected a PLY header ('ply')",
                          "the first line of a .ply file is 'ply'");
     bool ascii = true, ended = false;
     std::vector<PlyElement> elements;
     while (reader.next(line)) {
-        std::vector<Token> tok = tokenize(line);
+        tokenize(line, tok);
         if (tok.empty()) continue;
         const int ln = reader.lineNumber();
         if (tok[0].text == "format" && tok.size() >= 2) {
             ascii = tok[1].text == "ascii";
+            if (!ascii && tok[1].text != "binary_little_endian" && tok[1].text != "binary_big_endian")
+                throw InputError(FileLoc{path, ln, tok[1].col}, "unknown PLY format '" + std::string(tok[1].text) + "'",
+                                 "use ascii, binary_little_endian or binary_big_endian");
         } else if (tok[0].text == "element") {
             PlyElement e;
             if (tok.size() < 3 || !parseInt64(tok[2].text, e.count) || e.count < 0)
-                throw InputError(FileLoc{path, ln, 1}, "expected 'element NAME COUNT'");
+                throw InputError(FileLoc{path, ln, tok.size() >= 3 ? tok[2].col : 1},
+                                 "expected 'element NAME COUNT' with a whole COUNT >= 0",
+                                 "e.g. 'element vertex 8'");
             e.name = std::string(tok[1].text);
             if (e.name == "face") checkFaceCount(path, ln, e.count, options);
             elements.push_back(e);
-        } else if (tok[0].text == "property" && !elements.empty()) {
+        } else if (tok[0].text == "property") {
+            if (elements.empty())
+                throw InputError(FileLoc{path, ln, 1}, "property before any element", "declare the element first");
             PlyElement &e = elements.back();
+            PlyProperty prop;
             if (tok.size() >= 5 && tok[1].text == "list") {
-                // The smallest list is a triangle.
-                e.minBytes += ascii ? 8 : plyTypeSize(std::string(tok[2].text)) +
-                                              3 * plyTypeSize(std::string(tok[3].text));
-                e.properties.emplace_back(tok[4].text);
-            } else if (tok.size() >= 3) {
-                e.minBytes += ascii ? 2 : plyTypeSize(std::string(tok[1].text));
-                e.properties.emplace_back(tok[2].text);
+                prop = {std::string(tok[4].text), true, plyTypeSize(tok[2].text), plyTypeSize(tok[3].text)};
+                if (prop.countSize == 0 || prop.itemSize == 0)
+                    throw InputError(FileLoc{path, ln, tok[2].col}, "unknown PLY property type",
+                                     "use char, uchar, short, ushort, int, uint, float or double");
+                // The smallest face is a triangle; other lists may be empty.
+                const bool corners = e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
+                e.minBytes += ascii ? (corners ? 8 : 2) : prop.countSize + (corners ? 3 * prop.itemSize : 0);
+            } else if (tok.size() == 3) {
+                prop = {std::string(tok[2].text), false, plyTypeSize(tok[1].text), 0};
+                if (prop.countSize == 0)
+                    throw InputError(FileLoc{path, ln, tok[1].col}, "unknown PLY property type '" +
+                                                                         std::string(tok[1].text) + "'",
+                                     "use char, uchar, short, ushort, int, uint, float or double");
+                e.minBytes += ascii ? 2 : prop.countSize;
+            } else {
+                throw InputError(FileLoc{path, ln, 1}, "expected 'property TYPE NAME' or 'property list CTYPE ITYPE NAME'");
             }
+            e.properties.push_back(prop);
         } else if (tok[0].text == "end_header") {
             ended = true;
             break;
@@ -464,29 +605,71 @@ void prescanPly(const std::string &path, const std::string &text, const LoadOpti
                              std::to_string(reader.remainingBytes()) + " bytes",
                          "the file is truncated or its header is wrong");
     }
-    // ASCII vertices come first in every file we know of; check x, y, z there.
-    if (!ascii || elements.empty() || elements[0].name != "vertex") return;
-    const std::vector<std::string> &props = elements[0].properties;
-    const auto at = [&](const char *n) {
-        return size_t(std::find(props.begin(), props.end(), n) - props.begin());
-    };
-    const size_t ix = at("x"), iy = at("y"), iz = at("z");
-    if (ix >= props.size() || iy >= props.size() || iz >= props.size()) return;
-    int64_t v = 0;
-    while (v < elements[0].count && reader.next(line)) {
-        std::vector<Token> tok = tokenize(line);
-        if (tok.empty()) continue;
-        for (size_t k : {ix, iy, iz}) {
-            double x;
-            if (k >= tok.size() || !parseDouble(tok[k].text, x) || !std::isfinite(x))
-                throw InputError(FileLoc{path, reader.lineNumber(),
-                                         k < tok.size() ? tok[k].col : 1},
-                                 "vertex " + std::to_string(v) +
-                                     " has a missing or non-finite coordinate",
-                                 "every coordinate must be a finite number");
+    if (!ascii) return false;
+
+    int64_t nV = -1;
+    for (const PlyElement &e : elements)
+        if (e.name == "vertex") nV = e.count;
+    for (const PlyElement &e : elements) {
+        const auto at = [&](const char *n) {
+            for (size_t i = 0; i < e.properties.size(); ++i)
+                if (e.properties[i].name == n) return i;
+            return e.properties.size();
+        };
+        const bool isVertex = e.name == "vertex", isFace = e.name == "face";
+        const size_t ix = at("x"), iy = at("y"), iz = at("z");
+        size_t iFace = at("vertex_indices");
+        if (iFace == e.properties.size()) iFace = at("vertex_index");
+        if (isVertex && (ix == e.properties.size() || iy == e.properties.size() || iz == e.properties.size()))
+            throw InputError(FileLoc{path}, "the vertex element has no x, y and z properties",
+                             "add 'property float x' etc.");
+        if (isFace && (iFace == e.properties.size() || !e.properties[iFace].list))
+            throw InputError(FileLoc{path}, "the face element has no vertex_indices list",
+                             "add 'property list uchar int vertex_indices'");
+        if (isVertex) soup.positions.reserve(size_t(e.count));
+        if (isFace) soup.polygons.reserve(size_t(e.count));
+        for (int64_t i = 0; i < e.count; ++i) {
+            do {
+                if (!reader.next(line))
+                    throw InputError(FileLoc{path, reader.lineNumber(), 1},
+                                     "the file ends at " + e.name + " " + std::to_string(i) + " of " +
+                                         std::to_string(e.count),
+                                     "the file is truncated or its header is wrong");
+            } while (isBlankOrComment(line));
+            tokenize(line, tok);
+            const int ln = reader.lineNumber();
+            size_t t = 0;
+            Vec3 p = Vec3::Zero();
+            for (size_t k = 0; k < e.properties.size(); ++k) {
+                if (t >= tok.size())
+                    throw InputError(FileLoc{path, ln, int(line.size()) + 1},
+                                     e.name + " " + std::to_string(i) + " has too few values",
+                                     "each line holds one " + e.name + " with every property of the header");
+                if (!e.properties[k].list) {
+                    if (isVertex && (k == ix || k == iy || k == iz))
+                        p[k == ix ? 0 : k == iy ? 1 : 2] = coordinate(path, ln, tok[t], i);
+                    ++t;
+                    continue;
+                }
+                int64_t n = 0;
+                if (!parseInt64(tok[t].text, n) || n < 0 || t + 1 + size_t(n) > tok.size())
+                    throw InputError(FileLoc{path, ln, tok[t].col},
+                                     e.name + " " + std::to_string(i) + ": bad list length '" +
+                                         std::string(tok[t].text) + "'",
+                                     "a list is its length followed by that many values");
+                if (isFace && k == iFace) {
+                    std::vector<int> poly(static_cast<size_t>(n));
+                    for (int64_t c = 0; c < n; ++c)
+                        poly[size_t(c)] = cornerIndex(path, ln, tok[t + 1 + size_t(c)], i, std::max<int64_t>(nV, 0),
+                                                      "indices in PLY files start at 0");
+                    soup.polygons.push_back(std::move(poly));
+                }
+                t += 1 + size_t(n);
+            }
+            if (isVertex) soup.positions.push_back(p);
         }
-        ++v;
     }
+    return true;
 }
 
 std::string readWholeFile(const std::string &path) {
@@ -494,10 +677,15 @@ std::string readWholeFile(const std::string &path) {
     fs::file_status st = fs::status(path, ec);
     if (ec || !fs::exists(st)) throw IoError(path, "no such file");
     if (fs::is_directory(st)) throw IoError(path, "is a folder, expected a mesh file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError(path, "cannot open the file for reading");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw IoError(path, "reading failed");
+    std::FILE *file = std::fopen(path.c_str(), "rb");
+    if (!file) throw IoError(path, std::string("cannot open the file for reading: ") + std::strerror(errno));
+    std::string text;
+    char buffer[1 << 16];
+    size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) text.append(buffer, n);
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed) throw IoError(path, "reading failed");
     return text;
 }
 
@@ -532,20 +720,39 @@ struct EdgeFaces {
 };
 
 EdgeFaces buildEdgeFaces(const std::vector<Face> &tris) {
-    std::vector<std::pair<uint64_t, int>> all;
-    all.reserve(3 * tris.size());
+    // Bucket the edges by their smaller vertex (a counting sort), then sort each
+    // small bucket by (larger vertex, face): the same order as one global sort of
+    // (key, face) pairs, without its cost.
+    int nV = 0;
+    for (const Face &t : tris) nV = std::max({nV, t[0] + 1, t[1] + 1, t[2] + 1});
+    std::vector<int> start(size_t(nV) + 1, 0);
+    for (const Face &t : tris)
+        for (int k = 0; k < 3; ++k) ++start[size_t(std::min(t[k], t[(k + 1) % 3])) + 1];
+    for (int v = 0; v < nV; ++v) start[v + 1] += start[v];
+    std::vector<std::pair<int, int>> bucket(3 * tris.size()); // (larger vertex, face)
+    std::vector<int> fill(start.begin(), start.end() - 1);
     for (int f = 0; f < int(tris.size()); ++f)
-        for (int k = 0; k < 3; ++k) all.push_back({edgeKey(tris[f][k], tris[f][(k + 1) % 3]), f});
-    std::sort(all.begin(), all.end());
-    EdgeFaces ef;
-    for (size_t i = 0; i < all.size(); ++i) {
-        if (i == 0 || all[i].first != all[i - 1].first) {
-            ef.keys.push_back(all[i].first);
-            ef.offset.push_back(int(i));
+        for (int k = 0; k < 3; ++k) {
+            const int a = tris[f][k], b = tris[f][(k + 1) % 3];
+            bucket[fill[std::min(a, b)]++] = {std::max(a, b), f};
         }
-        ef.faces.push_back(all[i].second);
+    EdgeFaces ef;
+    ef.keys.reserve(bucket.size() / 2 + 1);
+    ef.offset.reserve(bucket.size() / 2 + 2);
+    ef.faces.reserve(bucket.size());
+    for (int v = 0; v < nV; ++v) {
+        const auto first = bucket.begin() + start[v], last = bucket.begin() + start[v + 1];
+        std::sort(first, last);
+        for (auto it = first; it != last; ++it) {
+            const uint64_t key = edgeKey(v, it->first);
+            if (ef.keys.empty() || ef.keys.back() != key) {
+                ef.keys.push_back(key);
+                ef.offset.push_back(int(ef.faces.size()));
+            }
+            ef.faces.push_back(it->second);
+        }
     }
-    ef.offset.push_back(int(all.size()));
+    ef.offset.push_back(int(ef.faces.size()));
     return ef;
 }
 
@@ -637,10 +844,14 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
     LoadReport rep;
     const FileLoc loc{name};
     const int nV0 = int(positions.size());
-    for (int v = 0; v < nV0; ++v)
+    for (int v = 0; v < nV0; ++v) {
         if (!positions[v].allFinite())
             throw InputError(loc, "vertex " + std::to_string(v) + " has a non-finite coordinate",
                              "every coordinate must be a finite number");
+        if (positions[v].cwiseAbs().maxCoeff() > kMaxCoordinate)
+            throw InputError(loc, "vertex " + std::to_string(v) + " has an absurd coordinate (limit 1e15)",
+                             "rescale the mesh; rendering does not depend on its scale");
+    }
     if (int64_t(polygons.size()) > options.maxFaces)
         throw InputError(loc,
                          "the mesh has " + std::to_string(polygons.size()) +
@@ -874,38 +1085,54 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
 }
 
 Mesh loadMesh(const std::string &path, const LoadOptions &options, LoadReport *report) {
-    const std::string text = readWholeFile(path);
     const std::string ext = lower(fs::path(path).extension().string());
     if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl")
         throw InputError(FileLoc{path},
                          "unknown mesh format '" + (ext.empty() ? std::string("(none)") : ext) + "'",
                          "use a .obj, .ply, .off or .stl file");
+    const std::string file = readWholeFile(path);
+    std::string_view text = file;
+    // A UTF-8 byte order mark (some Windows editors write one) is not content.
+    const bool bom = text.substr(0, 3) == "\xEF\xBB\xBF";
+    if (bom) text.remove_prefix(3);
     if (text.find_first_not_of(" \t\r\n") == std::string::npos)
         throw InputError(FileLoc{path}, "the file is empty", "export the mesh again");
 
-    if (ext == ".off") prescanOff(path, text, options);
-    else if (ext == ".obj") prescanObj(path, text, options);
-    else if (ext == ".stl") prescanStl(path, text, options);
-    else prescanPly(path, text, options);
+    SoupImporter soup;
+    bool parsed = true;
+    if (ext == ".off") parsed = readOff(path, text, options, soup);
+    else if (ext == ".obj") readObj(path, text, options, soup);
+    else if (ext == ".stl") readStl(path, text, options, soup);
+    else parsed = readPly(path, text, options, soup);
 
-    silenceOpenMesh();
-    SoupImporter importer;
-    OpenMesh::IO::Options omOptions;
-    bool ok;
-    {
-        // The IOManager singleton and its readers keep per-read state.
-        static std::mutex readMutex;
-        std::lock_guard<std::mutex> lock(readMutex);
-        ok = OpenMesh::IO::IOManager().read(path, importer, omOptions);
+    if (!parsed) {
+        // Binary PLY and binary OFF, headers already checked against the file size.
+        silenceOpenMesh();
+        OpenMesh::IO::Options omOptions;
+        bool ok;
+        {
+            // The IOManager singleton and its readers keep per-read state.
+            static std::mutex readMutex;
+            std::lock_guard<std::mutex> lock(readMutex);
+            if (bom) {
+                std::istringstream in{std::string(text)};
+                ok = OpenMesh::IO::IOManager().read(in, ext.substr(1), soup, omOptions);
+            } else {
+                ok = OpenMesh::IO::IOManager().read(path, soup, omOptions);
+            }
+        }
+        if (!ok)
+            throw InputError(FileLoc{path}, "could not be parsed as a binary " + ext.substr(1) + " mesh",
+                             "the file is damaged, truncated or in another format");
+        for (size_t p = 0; p < soup.polygons.size(); ++p)
+            if (soup.polygons[p].empty())
+                throw InputError(FileLoc{path}, "face " + std::to_string(p) + " could not be parsed",
+                                 "the file is damaged");
+        for (size_t v = 0; v < soup.positions.size(); ++v)
+            for (int k = 0; k < 3; ++k)
+                binaryCoordinate(path, soup.positions[v][k], "vertex " + std::to_string(v));
     }
-    if (!ok)
-        throw InputError(FileLoc{path}, "could not be parsed as " + ext.substr(1) + " mesh",
-                         "the file is damaged or in another format");
-    for (size_t p = 0; p < importer.polygons.size(); ++p)
-        if (importer.polygons[p].empty())
-            throw InputError(FileLoc{path}, "face " + std::to_string(p) + " could not be parsed",
-                             "the file is damaged");
-    return repairAndBuild(std::move(importer.positions), importer.polygons, path, options, report);
+    return repairAndBuild(std::move(soup.positions), soup.polygons, path, options, report);
 }
 
 } // namespace rosy::field

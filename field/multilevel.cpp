@@ -3,31 +3,17 @@
 #include "core/parallel.h"
 
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace rosy::field {
 namespace {
 
-// y = K x for Hermitian K stored by columns: row i of K is the conjugate of
-// column i, so each work item reads one column and writes one entry
-// (deterministic for any thread count, no transposed copy needed).
-void multiply(const SparseMatrixC &K, const Eigen::VectorXcd &x, Eigen::VectorXcd &y) {
-    y.resize(K.rows());
-    parallelFor(0, K.cols(), [&](int64_t i) {
-        Complex s(0, 0);
-        for (SparseMatrixC::InnerIterator it(K, i); it; ++it) s += std::conj(it.value()) * x[it.row()];
-        y[i] = s;
-    }, 4096);
-}
-
-// Hermitian inner product ⟨a, b⟩ = Σ conj(a_i) b_i, summed in index order.
-Complex dot(const Eigen::VectorXcd &a, const Eigen::VectorXcd &b) {
-    Complex s(0, 0);
-    for (Eigen::Index i = 0; i < a.size(); ++i) s += std::conj(a[i]) * b[i];
-    return s;
-}
+constexpr int64_t kBlock = 8192;
+constexpr int kDirectBelow = 4096; // unknowns: general systems this small go to LU // fixed summation blocks: the same sums for any thread count
 
 // Aggregates of about two rings, grown by BFS from roots taken in vertex order.
 // Returns the aggregate of every free row and the transport angle from the
@@ -69,86 +55,297 @@ int buildAggregates(const TangentFrames &frames, const std::vector<int> &freeId,
     return nAgg;
 }
 
+// Pᴴ K P for P with one entry per row, P(i, aggregate[i]) = phase[i], in K's own
+// storage order: Gustavson's row-by-row product over each aggregate's members.
+template <int Options>
+Eigen::SparseMatrix<Complex, Options> galerkinProduct(const Eigen::SparseMatrix<Complex, Options> &K,
+                                                      const std::vector<int> &aggregate,
+                                                      const Eigen::VectorXcd &phase, int nAgg,
+                                                      const std::vector<int> &memberStart,
+                                                      const std::vector<int> &members) {
+    using Matrix = Eigen::SparseMatrix<Complex, Options>;
+    std::vector<int> outer(nAgg + 1, 0), inner, slot(nAgg, -1), touched;
+    std::vector<Complex> value;
+    inner.reserve(size_t(K.nonZeros()) / 2);
+    value.reserve(size_t(K.nonZeros()) / 2);
+    for (int c = 0; c < nAgg; ++c) {
+        touched.clear();
+        for (int m = memberStart[c]; m < memberStart[c + 1]; ++m)
+            for (typename Matrix::InnerIterator it(K, members[m]); it; ++it) {
+                const int a = aggregate[it.index()];
+                const Complex x = std::conj(phase[it.row()]) * it.value() * phase[it.col()];
+                if (slot[a] < 0) {
+                    slot[a] = int(value.size());
+                    touched.push_back(a);
+                    inner.push_back(a);
+                    value.push_back(x);
+                } else {
+                    value[slot[a]] += x;
+                }
+            }
+        // Sort this outer slice by inner index (Eigen's compressed format).
+        const int begin = outer[c];
+        std::vector<std::pair<int, Complex>> tmp;
+        tmp.reserve(touched.size());
+        for (int a : touched) tmp.push_back({a, value[slot[a]]});
+        std::sort(tmp.begin(), tmp.end(), [](const auto &p, const auto &q) { return p.first < q.first; });
+        for (size_t t = 0; t < tmp.size(); ++t) {
+            inner[begin + t] = tmp[t].first;
+            value[begin + t] = tmp[t].second;
+            slot[tmp[t].first] = -1;
+        }
+        outer[c + 1] = begin + int(tmp.size());
+    }
+    Matrix Kc(nAgg, nAgg);
+    Kc.resizeNonZeros(Eigen::Index(outer[nAgg]));
+    std::copy(outer.begin(), outer.end(), Kc.outerIndexPtr());
+    std::copy(inner.begin(), inner.begin() + outer[nAgg], Kc.innerIndexPtr());
+    std::copy(value.begin(), value.begin() + outer[nAgg], Kc.valuePtr());
+    return Kc;
+}
+
 } // namespace
 
-Eigen::VectorXcd solveTwoLevelPcg(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
-                                  const SparseMatrixC &K, const Eigen::VectorXcd &b,
-                                  const Eigen::VectorXcd &guess, double tolerance, int maxIterations,
-                                  PcgReport *report) {
+namespace {
+template <typename Term>
+Complex blockSum(int64_t n, Term term) {
+    const int64_t nBlocks = (n + kBlock - 1) / kBlock;
+    std::vector<Complex> part(size_t(std::max<int64_t>(nBlocks, 1)), Complex(0, 0));
+    parallelFor(0, nBlocks, [&](int64_t k) {
+        Complex s(0, 0);
+        const int64_t end = std::min(n, (k + 1) * kBlock);
+        for (int64_t i = k * kBlock; i < end; ++i) s += term(i);
+        part[size_t(k)] = s;
+    }, 1);
+    Complex s(0, 0);
+    for (const Complex &p : part) s += p;
+    return s;
+}
+} // namespace
+
+Complex blockDot(const Eigen::VectorXcd &a, const Eigen::VectorXcd &b) {
+    return blockSum(a.size(), [&](int64_t i) { return std::conj(a[i]) * b[i]; });
+}
+
+Complex blockDot(const Eigen::VectorXcd &a, const Eigen::VectorXd &w, const Eigen::VectorXcd &b) {
+    return blockSum(a.size(), [&](int64_t i) { return std::conj(a[i]) * (w[i] * b[i]); });
+}
+
+// Row i of a Hermitian K is the conjugate of column i, so each work item reads
+// one column and writes one entry (no transposed copy needed).
+void multiplyHermitian(const SparseMatrixC &K, const Eigen::VectorXcd &x, Eigen::VectorXcd &y) {
+    y.resize(K.rows());
+    const int *outer = K.outerIndexPtr(), *inner = K.innerIndexPtr();
+    const Complex *value = K.valuePtr();
+    parallelFor(0, K.cols(), [&](int64_t i) {
+        Complex s(0, 0);
+        for (int k = outer[i]; k < outer[i + 1]; ++k) s += std::conj(value[k]) * x[inner[k]];
+        y[i] = s;
+    }, 4096);
+}
+
+namespace {
+void multiplyRows(const SparseMatrixRowC &K, const Eigen::VectorXcd &x, Eigen::VectorXcd &y) {
+    y.resize(K.rows());
+    const int *outer = K.outerIndexPtr(), *inner = K.innerIndexPtr();
+    const Complex *value = K.valuePtr();
+    parallelFor(0, K.rows(), [&](int64_t i) {
+        Complex s(0, 0);
+        for (int k = outer[i]; k < outer[i + 1]; ++k) s += value[k] * x[inner[k]];
+        y[i] = s;
+    }, 4096);
+}
+} // namespace
+
+struct TwoLevelPreconditioner::Impl {
+    int n = 0, nAgg = 0;
+    std::vector<int> aggregate, memberStart, members;
+    Eigen::VectorXcd phase; // P(i, aggregate[i]) = phase[i]
+    Eigen::VectorXd invDiag;
+    Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> ldlt;
+    Eigen::SparseLU<SparseMatrixC> lu;
+    bool hermitian = true;
+
+    void setup(const TangentFrames &frames, int nSym, const std::vector<int> &freeId, int rows) {
+        n = rows;
+        std::vector<double> angle;
+        nAgg = buildAggregates(frames, freeId, n, aggregate, angle);
+        phase.resize(n);
+        for (int i = 0; i < n; ++i) phase[i] = std::polar(1.0, nSym * angle[i]);
+        memberStart.assign(nAgg + 1, 0);
+        for (int i = 0; i < n; ++i) ++memberStart[aggregate[i] + 1];
+        for (int a = 0; a < nAgg; ++a) memberStart[a + 1] += memberStart[a];
+        members.resize(n);
+        std::vector<int> fill(memberStart.begin(), memberStart.end() - 1);
+        for (int i = 0; i < n; ++i) members[fill[aggregate[i]]++] = i;
+    }
+};
+
+TwoLevelPreconditioner::TwoLevelPreconditioner(const TangentFrames &frames, int nSym,
+                                               const std::vector<int> &freeId, const SparseMatrixC &K)
+    : m_impl(std::make_unique<Impl>()) {
+    Impl &d = *m_impl;
+    d.setup(frames, nSym, freeId, int(K.rows()));
+    d.invDiag.resize(d.n);
+    for (int i = 0; i < d.n; ++i) d.invDiag[i] = 1.0 / K.coeff(i, i).real();
+    d.ldlt.compute(galerkinProduct(K, d.aggregate, d.phase, d.nAgg, d.memberStart, d.members));
+    if (d.ldlt.info() != Eigen::Success) throw std::runtime_error("two-level: coarse factorization failed");
+}
+
+TwoLevelPreconditioner::TwoLevelPreconditioner(const TangentFrames &frames, int nSym,
+                                               const std::vector<int> &freeId, const SparseMatrixRowC &K)
+    : m_impl(std::make_unique<Impl>()) {
+    Impl &d = *m_impl;
+    d.hermitian = false;
+    d.setup(frames, nSym, freeId, int(K.rows()));
+    d.invDiag.resize(d.n);
+    for (int i = 0; i < d.n; ++i) {
+        const double diag = K.coeff(i, i).real();
+        d.invDiag[i] = diag != 0 ? 1.0 / diag : 0.0;
+    }
+    const SparseMatrixC Kc = galerkinProduct(K, d.aggregate, d.phase, d.nAgg, d.memberStart, d.members);
+    d.lu.analyzePattern(Kc);
+    d.lu.factorize(Kc);
+    if (d.lu.info() != Eigen::Success) throw std::runtime_error("two-level: coarse LU failed");
+}
+
+TwoLevelPreconditioner::~TwoLevelPreconditioner() = default;
+
+int TwoLevelPreconditioner::coarseSize() const { return m_impl->nAgg; }
+
+Eigen::VectorXcd TwoLevelPreconditioner::restrictTo(const Eigen::VectorXcd &r) const {
+    const Impl &d = *m_impl;
+    Eigen::VectorXcd rc(d.nAgg);
+    parallelFor(0, d.nAgg, [&](int64_t a) {
+        Complex s(0, 0);
+        for (int m = d.memberStart[a]; m < d.memberStart[a + 1]; ++m)
+            s += std::conj(d.phase[d.members[m]]) * r[d.members[m]];
+        rc[a] = s;
+    }, 2048);
+    return rc;
+}
+
+Eigen::VectorXcd TwoLevelPreconditioner::prolong(const Eigen::VectorXcd &xc) const {
+    const Impl &d = *m_impl;
+    Eigen::VectorXcd x(d.n);
+    for (int i = 0; i < d.n; ++i) x[i] = d.phase[i] * xc[d.aggregate[i]];
+    return x;
+}
+
+Eigen::VectorXcd TwoLevelPreconditioner::coarseSolve(const Eigen::VectorXcd &rc) const {
+    const Impl &d = *m_impl;
+    return d.hermitian ? Eigen::VectorXcd(d.ldlt.solve(rc)) : Eigen::VectorXcd(d.lu.solve(rc));
+}
+
+Eigen::VectorXd TwoLevelPreconditioner::coarseSum(const Eigen::VectorXd &w) const {
+    const Impl &d = *m_impl;
+    Eigen::VectorXd s = Eigen::VectorXd::Zero(d.nAgg);
+    for (int i = 0; i < d.n; ++i) s[d.aggregate[i]] += w[i];
+    return s;
+}
+
+SparseMatrixC TwoLevelPreconditioner::galerkin(const SparseMatrixC &B) const {
+    const Impl &d = *m_impl;
+    return galerkinProduct(B, d.aggregate, d.phase, d.nAgg, d.memberStart, d.members);
+}
+
+void TwoLevelPreconditioner::apply(const Eigen::VectorXcd &r, Eigen::VectorXcd &z) const {
+    const Impl &d = *m_impl;
+    z.resize(d.n);
+    const Eigen::VectorXcd rc = restrictTo(r);
+    const Eigen::VectorXcd ec = coarseSolve(rc);
+    parallelFor(0, d.n, [&](int64_t i) { z[i] = d.invDiag[i] * r[i] + d.phase[i] * ec[d.aggregate[i]]; }, 8192);
+}
+
+Eigen::VectorXcd solvePcg(const SparseMatrixC &K, const TwoLevelPreconditioner &pre, const Eigen::VectorXcd &b,
+                          const Eigen::VectorXcd &guess, double tolerance, int maxIterations, PcgReport *report) {
     const int n = int(b.size());
-    std::vector<int> aggregate;
-    std::vector<double> angle;
-    const int nAgg = buildAggregates(frames, freeId, n, aggregate, angle);
-    Eigen::VectorXcd phase(n); // P has one entry per row: P(i, aggregate[i]) = phase[i]
-    for (int i = 0; i < n; ++i) phase[i] = std::polar(1.0, nSym * angle[i]);
-
-    // Galerkin coarse operator Kc = Pᴴ K P, lower triangle only (all LDLT reads).
-    std::vector<Eigen::Triplet<Complex>> trip;
-    trip.reserve(size_t(K.nonZeros()));
-    for (int j = 0; j < K.outerSize(); ++j)
-        for (SparseMatrixC::InnerIterator it(K, j); it; ++it) {
-            const int i = int(it.row());
-            const int a = aggregate[i], c = aggregate[j];
-            if (a >= c) trip.emplace_back(a, c, std::conj(phase[i]) * it.value() * phase[j]);
-        }
-    SparseMatrixC Kc(nAgg, nAgg);
-    Kc.setFromTriplets(trip.begin(), trip.end());
-    trip.clear();
-    trip.shrink_to_fit();
-    Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> coarse(Kc);
-    if (coarse.info() != Eigen::Success) throw std::runtime_error("two-level PCG: coarse factorization failed");
-
-    Eigen::VectorXd invDiag(n);
-    for (int i = 0; i < n; ++i) invDiag[i] = 1.0 / K.coeff(i, i).real();
-    Eigen::VectorXcd rc(nAgg);
-    auto restrictTo = [&](const Eigen::VectorXcd &r) {
-        rc.setZero();
-        for (int i = 0; i < n; ++i) rc[aggregate[i]] += std::conj(phase[i]) * r[i];
-    };
-    // z = M⁻¹ r, additive two-level: Jacobi plus the coarse correction. It needs no
-    // matrix-vector product, which beats the multiplicative V-cycle overall here
-    // (bunny00: 52 iterations of one product against 28 of three).
-    auto precondition = [&](const Eigen::VectorXcd &r, Eigen::VectorXcd &z) {
-        z.resize(n);
-        restrictTo(r);
-        const Eigen::VectorXcd ec = coarse.solve(rc);
-        parallelFor(0, n, [&](int64_t i) { z[i] = invDiag[i] * r[i] + phase[i] * ec[aggregate[i]]; }, 8192);
-    };
-
     Eigen::VectorXcd x = guess.size() == n ? guess : Eigen::VectorXcd::Zero(n);
     Eigen::VectorXcd r(n), z(n), p(n), Ap(n);
-    multiply(K, x, Ap);
+    multiplyHermitian(K, x, Ap);
     r = b - Ap;
-    const double bNorm = std::sqrt(std::real(dot(b, b)));
+    const double bNorm = std::sqrt(std::real(blockDot(b, b)));
     const double target = tolerance * (bNorm > 0 ? bNorm : 1.0);
-    double rNorm = std::sqrt(std::real(dot(r, r)));
+    double rNorm = std::sqrt(std::real(blockDot(r, r)));
     int it = 0;
     if (rNorm > target) {
-        precondition(r, z);
+        pre.apply(r, z);
         p = z;
-        Complex rz = dot(r, z);
+        Complex rz = blockDot(r, z);
         for (; it < maxIterations; ++it) {
-            multiply(K, p, Ap);
-            const Complex alpha = rz / dot(p, Ap);
+            multiplyHermitian(K, p, Ap);
+            const Complex alpha = rz / blockDot(p, Ap);
             parallelFor(0, n, [&](int64_t i) {
                 x[i] += alpha * p[i];
                 r[i] -= alpha * Ap[i];
             }, 8192);
-            rNorm = std::sqrt(std::real(dot(r, r)));
+            rNorm = std::sqrt(std::real(blockDot(r, r)));
             if (rNorm <= target) {
                 ++it;
                 break;
             }
-            precondition(r, z);
-            const Complex rzNew = dot(r, z);
+            pre.apply(r, z);
+            const Complex rzNew = blockDot(r, z);
             const Complex beta = rzNew / rz;
             parallelFor(0, n, [&](int64_t i) { p[i] = z[i] + beta * p[i]; }, 8192);
             rz = rzNew;
         }
     }
-    if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, nAgg};
-    if (rNorm > target || !x.allFinite())
+    if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, pre.coarseSize()};
+    if (!(rNorm <= target) || !x.allFinite())
         throw std::runtime_error("two-level PCG did not converge in " + std::to_string(maxIterations) +
+                                 " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
+    return x;
+}
+
+Eigen::VectorXcd solveTwoLevelPcg(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
+                                  const SparseMatrixC &K, const Eigen::VectorXcd &b,
+                                  const Eigen::VectorXcd &guess, double tolerance, int maxIterations,
+                                  PcgReport *report) {
+    const TwoLevelPreconditioner pre(frames, nSym, freeId, K);
+    return solvePcg(K, pre, b, guess, tolerance, maxIterations, report);
+}
+
+Eigen::VectorXcd solveTwoLevelBicgstab(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
+                                       const SparseMatrixRowC &K, const Eigen::VectorXcd &b,
+                                       const Eigen::VectorXcd &guess, double tolerance, int maxIterations,
+                                       PcgReport *report) {
+    const int n = int(b.size());
+    const TwoLevelPreconditioner pre(frames, nSym, freeId, K);
+    Eigen::VectorXcd x = guess.size() == n ? guess : Eigen::VectorXcd::Zero(n);
+    Eigen::VectorXcd r(n), rHat(n), p = Eigen::VectorXcd::Zero(n), v = Eigen::VectorXcd::Zero(n), y(n), z(n),
+        sv(n), t(n);
+    multiplyRows(K, x, t);
+    r = b - t;
+    rHat = r;
+    const double bNorm = std::sqrt(std::real(blockDot(b, b)));
+    const double target = tolerance * (bNorm > 0 ? bNorm : 1.0);
+    double rNorm = std::sqrt(std::real(blockDot(r, r)));
+    Complex rho(1, 0), alpha(1, 0), omega(1, 0);
+    int it = 0;
+    for (; it < maxIterations && rNorm > target; ++it) {
+        const Complex rhoNew = blockDot(rHat, r);
+        if (std::abs(rhoNew) == 0 || std::abs(omega) == 0) break; // breakdown: let the caller fall back
+        const Complex beta = (rhoNew / rho) * (alpha / omega);
+        rho = rhoNew;
+        parallelFor(0, n, [&](int64_t i) { p[i] = r[i] + beta * (p[i] - omega * v[i]); }, 8192);
+        pre.apply(p, y);
+        multiplyRows(K, y, v);
+        alpha = rho / blockDot(rHat, v);
+        parallelFor(0, n, [&](int64_t i) { sv[i] = r[i] - alpha * v[i]; }, 8192);
+        pre.apply(sv, z);
+        multiplyRows(K, z, t);
+        const double tt = std::real(blockDot(t, t));
+        omega = tt > 0 ? blockDot(t, sv) / tt : Complex(0, 0);
+        parallelFor(0, n, [&](int64_t i) {
+            x[i] += alpha * y[i] + omega * z[i];
+            r[i] = sv[i] - omega * t[i];
+        }, 8192);
+        rNorm = std::sqrt(std::real(blockDot(r, r)));
+    }
+    if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, pre.coarseSize()};
+    if (!(rNorm <= target) || !x.allFinite())
+        throw std::runtime_error("two-level BiCGSTAB did not converge in " + std::to_string(maxIterations) +
                                  " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
     return x;
 }
@@ -161,6 +358,19 @@ Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, con
     } catch (const std::runtime_error &) {
         // A factorization always works for positive definite K; it is only slower.
         return HermitianSolver(K).solve(b);
+    }
+}
+
+Eigen::VectorXcd solveGeneralSystem(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
+                                    const SparseMatrixRowC &K, const Eigen::VectorXcd &b,
+                                    const Eigen::VectorXcd &guess) {
+    // Small systems (editing regions, small meshes) are solved exactly by LU,
+    // which is faster there than setting up the two-level solver.
+    if (K.rows() < kDirectBelow) return solveGeneral(SparseMatrixC(K), b);
+    try {
+        return solveTwoLevelBicgstab(frames, nSym, freeId, K, b, guess, 1e-6, 1000);
+    } catch (const std::runtime_error &) {
+        return solveGeneral(SparseMatrixC(K), b);
     }
 }
 

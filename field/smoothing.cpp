@@ -5,6 +5,8 @@
 #include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 
 namespace rosy::field {
@@ -64,18 +66,33 @@ void relaxationSmooth(const TangentFrames &frames, RosyField &field, int iterati
     field.u = u;
 }
 
-SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
-    const Mesh &mesh = frames.mesh();
-    const int n = mesh.nVertices();
-    SmoothestResult out;
-    out.field.nSym = nSym;
-    if (n == 0) return out;
-    const SparseMatrixC A = connectionLaplacian(frames, nSym);
-    const Eigen::VectorXd m = vertexAreas(mesh);
-    // Shift by a tiny multiple of M so the factorization exists when A is singular
-    // (e.g. a flat torus, whose smoothest field has eigenvalue exactly 0).
-    const double scale = A.diagonal().real().sum() / m.sum();
-    const double eps = 1e-8 * scale;
+namespace {
+
+// Vertex components through the rings (ids in order of their smallest vertex).
+std::vector<int> components(const Mesh &mesh, int &nComp) {
+    std::vector<int> comp(mesh.nVertices(), -1), queue;
+    nComp = 0;
+    for (int root = 0; root < mesh.nVertices(); ++root) {
+        if (comp[root] >= 0) continue;
+        comp[root] = nComp;
+        queue.assign(1, root);
+        for (size_t q = 0; q < queue.size(); ++q) {
+            const int v = queue[q];
+            for (const int *it = mesh.outgoingBegin(v); it != mesh.outgoingEnd(v); ++it)
+                for (int w : {mesh.head(*it), mesh.tail(Mesh::prev(*it))})
+                    if (comp[w] < 0) {
+                        comp[w] = nComp;
+                        queue.push_back(w);
+                    }
+        }
+        ++nComp;
+    }
+    return comp;
+}
+
+// Inverse power iteration on one sparse factorization of A + εM (the fallback).
+Eigen::VectorXcd inverseIteration(const SparseMatrixC &A, const Eigen::VectorXd &m, double eps, int &iterations) {
+    const int n = int(A.rows());
     SparseMatrixC K = A;
     for (int i = 0; i < n; ++i) K.coeffRef(i, i) += eps * m[i];
     const HermitianSolver solver(K);
@@ -90,8 +107,174 @@ SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
         if (previous >= 0 && std::abs(lambda - previous) <= 1e-8 * std::max(lambda, eps)) break;
         previous = lambda;
     }
-    out.eigenvalue = lambda;
-    out.iterations = it + 1;
+    iterations = it + 1;
+    return x;
+}
+
+// Smallest eigenvector of A u = λ M u (M = diag(m)), M-normalised, by LOBPCG
+// (Knyazev 2001) with block size one and the two-level preconditioner of
+// A + σM, σ the coarse (Galerkin) eigenvalue. Start: the coarse eigenvector by
+// inverse iteration on the coarse factorization, prolonged. Stops when
+// ‖A x − λ M x‖_{M⁻¹} ≤ 1e-5 · max(λ, 1e-8 scale), x M-normalised (the eigenvalue
+// is then exact to ~1e-10 relative and the directions to ~1e-5 rad). Falls back
+// to inverse iteration on a sparse factorization if it stalls.
+Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
+                                   const SparseMatrixC &A, const Eigen::VectorXd &m, int &iterations) {
+    const int n = int(A.rows());
+    // A component whose faces all have zero area has no mass matrix: the
+    // generalized eigenproblem is undefined (and the scale below divides by 0).
+    if (!(m.sum() > 0) || !std::isfinite(m.sum()))
+        throw InputError(FileLoc{"mesh"}, "a mesh component has zero total area, so it has no smoothest field",
+                         "remove the degenerate faces (the mesh loaders do this with a warning) or the component");
+    const double scale = A.diagonal().real().sum() / m.sum();
+    const double eps = 1e-8 * scale;
+    if (n <= 48) { // tiny component: dense solve
+        const Eigen::MatrixXcd Ad = Eigen::MatrixXcd(A);
+        const Eigen::MatrixXcd Md = m.cast<Complex>().asDiagonal();
+        Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> es(Ad, Md);
+        iterations = 1;
+        return es.eigenvectors().col(0);
+    }
+    auto shifted = [&](double sigma) {
+        SparseMatrixC K = A;
+        for (int i = 0; i < n; ++i) K.coeffRef(i, i) += sigma * m[i];
+        return K;
+    };
+    auto mDot = [&](const Eigen::VectorXcd &a, const Eigen::VectorXcd &b) { return blockDot(a, m, b); };
+    const Eigen::VectorXd invM = m.cwiseInverse();
+    try {
+        // Coarse eigenproblem Pᴴ A P y = λ Pᴴ M P y by inverse iteration.
+        Eigen::VectorXcd x;
+        double sigma = 0;
+        {
+            const TwoLevelPreconditioner coarse(frames, nSym, freeId, shifted(eps));
+            const Eigen::VectorXd mc = coarse.coarseSum(m);
+            const SparseMatrixC Ac = coarse.galerkin(A);
+            Eigen::VectorXcd y = startVector(coarse.coarseSize());
+            double lc = 0, previous = -1;
+            for (int it = 0; it < 200; ++it) {
+                y = coarse.coarseSolve(mc.cast<Complex>().cwiseProduct(y));
+                y /= std::sqrt(std::real(y.dot(mc.cast<Complex>().cwiseProduct(y))));
+                lc = std::real(y.dot(Ac * y));
+                if (previous >= 0 && std::abs(lc - previous) <= 1e-6 * std::max(lc, eps)) break;
+                previous = lc;
+            }
+            x = coarse.prolong(y);
+            // Damped Jacobi steps remove the jumps between aggregates from the start.
+            const int steps = 10;
+            const Eigen::VectorXd invDiag = A.diagonal().real().cwiseInverse();
+            Eigen::VectorXcd Ax0;
+            for (int k = 0; k < steps; ++k) {
+                multiplyHermitian(A, x, Ax0);
+                x -= (2.0 / 3.0) * invDiag.cast<Complex>().cwiseProduct(Ax0);
+            }
+            multiplyHermitian(A, x, Ax0);
+            const double rq = std::real(blockDot(x, Ax0)) / std::real(mDot(x, x));
+            sigma = std::max(std::min(rq, lc), 1e-6 * scale);
+        }
+        const TwoLevelPreconditioner pre(frames, nSym, freeId, shifted(sigma));
+        x /= std::sqrt(std::real(mDot(x, x)));
+        Eigen::VectorXcd Ax, w, Aw, p, Ap, r;
+        multiplyHermitian(A, x, Ax);
+        double lambda = std::real(blockDot(x, Ax));
+        bool haveP = false;
+        for (int it = 0; it < 400; ++it) {
+            r = Ax - lambda * (m.cast<Complex>().cwiseProduct(x));
+            const double rNorm = std::sqrt(std::real(blockDot(r, invM, r)));
+            if (!std::isfinite(rNorm)) break;
+            if (rNorm <= 1e-3 * std::max(lambda, eps)) {
+                iterations = it + 1;
+                return x;
+            }
+            pre.apply(r, w);
+            // M-orthonormal basis [x, p, w] (p, w orthogonalised twice for stability).
+            std::vector<Eigen::VectorXcd *> basis{&x}, images{&Ax};
+            auto orthonormalize = [&](Eigen::VectorXcd &v, Eigen::VectorXcd *Av) {
+                const double before = std::sqrt(std::real(mDot(v, v)));
+                for (int pass = 0; pass < 2; ++pass)
+                    for (size_t k = 0; k < basis.size(); ++k) {
+                        const Complex c = mDot(*basis[k], v);
+                        v -= c * *basis[k];
+                        if (Av) *Av -= c * *images[k];
+                    }
+                const double after = std::sqrt(std::real(mDot(v, v)));
+                if (!(after > 1e-10 * before) || !(after > 0)) return false;
+                v /= after;
+                if (Av) *Av /= after;
+                return true;
+            };
+            if (haveP && orthonormalize(p, &Ap)) {
+                basis.push_back(&p);
+                images.push_back(&Ap);
+            }
+            if (orthonormalize(w, nullptr)) {
+                multiplyHermitian(A, w, Aw);
+                basis.push_back(&w);
+                images.push_back(&Aw);
+            }
+            const int k = int(basis.size());
+            Eigen::MatrixXcd G(k, k);
+            for (int a = 0; a < k; ++a)
+                for (int b = a; b < k; ++b) {
+                    G(a, b) = blockDot(*basis[a], *images[b]);
+                    G(b, a) = std::conj(G(a, b));
+                }
+            for (int a = 0; a < k; ++a) G(a, a) = G(a, a).real();
+            Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> es(G);
+            const Eigen::VectorXcd c = es.eigenvectors().col(0);
+            // New search direction: the part of the update outside x.
+            Eigen::VectorXcd pNew = Eigen::VectorXcd::Zero(n), ApNew = Eigen::VectorXcd::Zero(n);
+            for (int a = 1; a < k; ++a) {
+                pNew += c[a] * *basis[a];
+                ApNew += c[a] * *images[a];
+            }
+            x = c[0] * x + pNew;
+            Ax = c[0] * Ax + ApNew;
+            p.swap(pNew);
+            Ap.swap(ApNew);
+            haveP = k > 1;
+            const double xNorm = std::sqrt(std::real(mDot(x, x)));
+            x /= xNorm;
+            Ax /= xNorm;
+            lambda = std::real(blockDot(x, Ax));
+        }
+    } catch (const std::runtime_error &) {
+    }
+    return inverseIteration(A, m, eps, iterations);
+}
+
+} // namespace
+
+SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
+    const Mesh &mesh = frames.mesh();
+    const int n = mesh.nVertices();
+    SmoothestResult out;
+    out.field.nSym = nSym;
+    if (n == 0) return out;
+    const SparseMatrixC A = connectionLaplacian(frames, nSym);
+    const Eigen::VectorXd m = vertexAreas(mesh);
+    // Components do not interact: each gets its own smallest eigenvector
+    // (M-normalised), so none is left near zero.
+    int nComp = 0;
+    const std::vector<int> comp = components(mesh, nComp);
+    Eigen::VectorXcd x(n);
+    for (int c = 0; c < nComp; ++c) {
+        std::vector<int> freeId(n, -1);
+        int nFree = 0;
+        for (int v = 0; v < n; ++v)
+            if (comp[v] == c) freeId[v] = nFree++;
+        Eigen::VectorXcd unused;
+        const SparseMatrixC Ac = nComp == 1 ? A : freeBlock(A, freeId, nFree, {}, unused);
+        Eigen::VectorXd mc(nFree);
+        for (int v = 0; v < n; ++v)
+            if (freeId[v] >= 0) mc[freeId[v]] = m[v];
+        int iterations = 0;
+        const Eigen::VectorXcd xc = lowestEigenvector(frames, nSym, freeId, Ac, mc, iterations);
+        out.iterations = std::max(out.iterations, iterations);
+        for (int v = 0; v < n; ++v)
+            if (freeId[v] >= 0) x[v] = xc[freeId[v]];
+    }
+    out.eigenvalue = std::real(x.dot(A * x)) / std::real(x.dot(m.cast<Complex>().cwiseProduct(x)));
     normalizeMax(x);
     out.field.u = x;
     return out;
@@ -110,7 +293,6 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
     mesh.bounds(lo, hi);
     const double len = smoothingLength * std::max((hi - lo).norm(), 1e-300);
     const double s = 1.0 / (len * len);
-    const SparseMatrixC A = connectionLaplacian(frames, guide.nSym);
     const Eigen::VectorXd m = vertexAreas(mesh);
 
     std::vector<int> freeId(n, -1);
@@ -124,22 +306,11 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
     Eigen::VectorXcd rhs(nFree);
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) rhs[freeId[v]] = s * m[v] * guide.u[v];
-    std::vector<Eigen::Triplet<Complex>> trip;
-    trip.reserve(A.nonZeros());
-    for (int k = 0; k < A.outerSize(); ++k)
-        for (SparseMatrixC::InnerIterator it(A, k); it; ++it) {
-            const int i = int(it.row()), j = int(it.col());
-            if (freeId[i] < 0) continue;
-            if (freeId[j] >= 0) {
-                trip.emplace_back(freeId[i], freeId[j], it.value());
-            } else {
-                rhs[freeId[i]] -= it.value() * out.u[j];
-            }
-        }
+    // K = (A + sM) on the free vertices, built in place (no triplets).
+    SparseMatrixC K = connectionLaplacian(frames, guide.nSym);
+    if (nFree < n) K = freeBlock(K, freeId, nFree, out.u, rhs);
     for (int v = 0; v < n; ++v)
-        if (freeId[v] >= 0) trip.emplace_back(freeId[v], freeId[v], Complex(s * m[v], 0));
-    SparseMatrixC K(nFree, nFree);
-    K.setFromTriplets(trip.begin(), trip.end());
+        if (freeId[v] >= 0) K.coeffRef(freeId[v], freeId[v]) += s * m[v];
     // The guide restricted to the free vertices is a good start for CG.
     Eigen::VectorXcd guess(nFree);
     for (int v = 0; v < n; ++v)

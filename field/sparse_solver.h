@@ -12,6 +12,11 @@
 /// symmetric) use UMFPACK's LU from Debian's libsuitesparse-dev, about 2.4×
 /// faster than Eigen's SparseLU on bunny00. BLAS runs on one thread, so results
 /// are bit-identical for any thread count.
+///
+/// These factorizations are the fallbacks and references: the product's
+/// solves go through the two-level Krylov solvers of multilevel.h, which beat
+/// any factorization here (a factorization of bunny00 alone costs about as
+/// much as the whole iterative solve).
 
 #include "field/rosy.h"
 

@@ -124,6 +124,44 @@ Hit RayScene::intersect(const Ray &ray) const {
     return hit;
 }
 
+void RayScene::intersect8(const Ray *rays, int count, Hit *hits) const {
+    alignas(32) int valid[8];
+    alignas(32) RTCRayHit8 rh;
+    for (int k = 0; k < 8; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        RTCRay r;
+        toRtcRay(rays[k < count ? k : 0], r);
+        rh.ray.org_x[k] = r.org_x;
+        rh.ray.org_y[k] = r.org_y;
+        rh.ray.org_z[k] = r.org_z;
+        rh.ray.dir_x[k] = r.dir_x;
+        rh.ray.dir_y[k] = r.dir_y;
+        rh.ray.dir_z[k] = r.dir_z;
+        rh.ray.tnear[k] = r.tnear;
+        rh.ray.tfar[k] = r.tfar;
+        rh.ray.time[k] = 0.0f;
+        rh.ray.mask[k] = ~0u;
+        rh.ray.id[k] = unsigned(k);
+        rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect8(valid, m_impl->scene, &context, &rh);
+    for (int k = 0; k < count; ++k) {
+        Hit &hit = hits[k];
+        hit = Hit();
+        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+        hit.faceId = int(rh.hit.primID[k]);
+        hit.t = rh.ray.tfar[k];
+        hit.u = rh.hit.u[k];
+        hit.v = rh.hit.v[k];
+    }
+}
+
 bool RayScene::occluded(const Ray &ray) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);

@@ -36,6 +36,10 @@ public:
 
     /// Closest hit with t in [ray.tMin, ray.tMax], or an invalid Hit.
     Hit intersect(const Ray &ray) const;
+    /// Closest hits of up to 8 rays at once (Embree's packet traversal, faster for
+    /// coherent rays such as neighbouring primary rays); hits[k] is exactly what
+    /// intersect(rays[k]) would return. count in [0, 8].
+    void intersect8(const Ray *rays, int count, Hit *hits) const;
     /// True if anything lies on the ray with t in [ray.tMin, ray.tMax].
     bool occluded(const Ray &ray) const;
     /// Radius of the mesh's bounding sphere: the scale for ray offsets (world units).

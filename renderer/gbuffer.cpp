@@ -5,52 +5,66 @@
 
 namespace rosy::renderer {
 
+Vec3 GBuffer::position(size_t i) const {
+    const field::Face &f = mesh->face(faceId[i]);
+    const double u = barycentric[i].x(), v = barycentric[i].y();
+    return (1.0 - u - v) * mesh->position(f[0]) + u * mesh->position(f[1]) + v * mesh->position(f[2]);
+}
+
+Vec3 GBuffer::normal(size_t i) const {
+    const int face = faceId[i];
+    const field::Face &f = mesh->face(face);
+    const std::vector<Vec3> &vn = *vertexNormals;
+    const double u = barycentric[i].x(), v = barycentric[i].y();
+    const Vec3 nrm = (1.0 - u - v) * vn[size_t(f[0])] + u * vn[size_t(f[1])] + v * vn[size_t(f[2])];
+    const double len = nrm.norm();
+    // Opposite vertex normals can cancel on very sharp creases.
+    return len > 1e-12 ? Vec3(nrm / len) : mesh->faceNormal(face);
+}
+
 GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Camera &camera) {
     GBuffer g;
     g.width = camera.width();
     g.height = camera.height();
-    size_t n = g.nPixels();
+    g.mesh = &mesh;
+    const size_t n = g.nPixels();
     // Sized but not filled here: every pixel is written once in the parallel loop
-    // below (misses too), so the first touch of these ~76 MB at 1024² is spread
-    // over the threads instead of a serial fill.
+    // below (misses too), so the first touch is spread over the threads.
     g.faceId.resize(n);
     g.barycentric.resize(n);
-    g.position.resize(n);
-    g.normal.resize(n);
     g.depth.resize(n);
 
     // Vertex normals once, not three times per pixel.
-    std::vector<Vec3> vertexNormals(size_t(mesh.nVertices()));
-    parallelFor(0, mesh.nVertices(), [&](int64_t v) { vertexNormals[size_t(v)] = mesh.vertexNormal(int(v)); });
+    auto normals = std::make_shared<std::vector<Vec3>>(size_t(mesh.nVertices()));
+    parallelFor(0, mesh.nVertices(), [&](int64_t v) { (*normals)[size_t(v)] = mesh.vertexNormal(int(v)); });
+    g.vertexNormals = std::move(normals);
 
+    const Vec3 eye = camera.position(), forward = camera.forward();
     parallelFor(
         0, g.height,
         [&](int64_t y) {
-            for (int x = 0; x < g.width; ++x) {
-                Ray ray = camera.generateRay(x + 0.5, double(y) + 0.5);
-                Hit hit = scene.intersect(ray);
-                size_t i = size_t(g.index(x, int(y)));
-                if (!hit.valid()) {
-                    g.faceId[i] = -1;
-                    g.barycentric[i] = Vec2::Zero();
-                    g.position[i] = Vec3::Zero();
-                    g.normal[i] = Vec3::Zero();
-                    g.depth[i] = 0.0;
-                    continue;
+            // Packets of 8 neighbouring rays: coherent primary rays share most of
+            // their traversal, which Embree's packet kernels exploit.
+            Ray rays[8];
+            Hit hits[8];
+            for (int x0 = 0; x0 < g.width; x0 += 8) {
+                const int count = std::min(8, g.width - x0);
+                for (int k = 0; k < count; ++k) rays[k] = camera.generateRay(x0 + k + 0.5, double(y) + 0.5);
+                scene.intersect8(rays, count, hits);
+                for (int k = 0; k < count; ++k) {
+                    const Hit &hit = hits[k];
+                    const size_t i = size_t(g.index(x0 + k, int(y)));
+                    if (!hit.valid()) {
+                        g.faceId[i] = -1;
+                        g.barycentric[i] = Eigen::Vector2f::Zero();
+                        g.depth[i] = 0.0f;
+                        continue;
+                    }
+                    ROSY_CHECK_LT(hit.faceId, mesh.nFaces());
+                    g.faceId[i] = hit.faceId;
+                    g.barycentric[i] = Eigen::Vector2f(float(hit.u), float(hit.v));
+                    g.depth[i] = float((g.position(i) - eye).dot(forward));
                 }
-                ROSY_CHECK_LT(hit.faceId, mesh.nFaces());
-                const field::Face &f = mesh.face(hit.faceId);
-                double w0 = 1.0 - hit.u - hit.v;
-                g.faceId[i] = hit.faceId;
-                g.barycentric[i] = Vec2(hit.u, hit.v);
-                g.position[i] = w0 * mesh.position(f[0]) + hit.u * mesh.position(f[1]) +
-                                hit.v * mesh.position(f[2]);
-                Vec3 nrm = w0 * vertexNormals[size_t(f[0])] + hit.u * vertexNormals[size_t(f[1])] +
-                           hit.v * vertexNormals[size_t(f[2])];
-                double len = nrm.norm();
-                // Opposite vertex normals can cancel on very sharp creases.
-                g.normal[i] = len > 1e-12 ? Vec3(nrm / len) : mesh.faceNormal(hit.faceId);
-                g.depth[i] = camera.depth(g.position[i]);
             }
         },
         1);

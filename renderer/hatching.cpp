@@ -414,7 +414,7 @@ private:
             if (g.faceId[a] < 0 || g.faceId[b] < 0) return false;
             const double da = g.depth[a], db = g.depth[b];
             const double rel = std::abs(da - db) / std::max(1e-12, std::min(std::abs(da), std::abs(db)));
-            return rel > kDepthJump || (rel > kDepthJumpWithNormal && g.normal[a].dot(g.normal[b]) < kNormalJumpCos);
+            return rel > kDepthJump || (rel > kDepthJumpWithNormal && g.normal(a).dot(g.normal(b)) < kNormalJumpCos);
         };
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -461,19 +461,24 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
     std::vector<double> arc(n, 0.0);
     for (size_t k = 1; k < n; ++k) arc[k] = arc[k - 1] + (stroke.points[k] - stroke.points[k - 1]).norm();
     const double length = arc.back();
-    const double taperLen = std::max(0.0, style.taper) * length;
+    const double taperLen = std::clamp(style.taper, 0.0, 0.5) * length;
     const double ph[4] = {2 * M_PI * random01(seed, stroke.id, 0), 2 * M_PI * random01(seed, stroke.id, 1),
                           2 * M_PI * random01(seed, stroke.id, 2), 2 * M_PI * random01(seed, stroke.id, 3)};
     // Two incommensurate sines: smooth, never periodic over a stroke, bounded by 1.
     auto noise = [&](double s, double l1, double l2, double a, double b) {
         return 0.6 * std::sin(2 * M_PI * s / l1 + a) + 0.4 * std::sin(2 * M_PI * s / l2 + b);
     };
+    // The tapered ends thin the stroke: over each end of length taperLen the
+    // smoothstep profile averages kTaperFloor + (1 − kTaperFloor) / 2, so the whole
+    // stroke averages 1 − taper (1 − kTaperFloor) of its peak. Dividing by that
+    // keeps the mean width at strokeWidthPx, the width the spacing formula assumes.
+    const double meanProfile = 1.0 - std::clamp(style.taper, 0.0, 0.5) * (1.0 - kTaperFloor);
     stroke.widths.resize(n);
     for (size_t k = 0; k < n; ++k) {
         double profile = 1.0;
         if (taperLen > 0) {
             const double e = std::clamp(std::min(arc[k], length - arc[k]) / taperLen, 0.0, 1.0);
-            profile = kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e);
+            profile = (kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e)) / meanProfile;
         }
         const double pressure = 1.0 + style.pressureVariation * noise(arc[k], 61.0, 23.0, ph[0], ph[1]);
         stroke.widths[k] = float(std::max(0.0, style.strokeWidthPx * profile * pressure));
@@ -505,6 +510,13 @@ double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &s
     const double perFamily = nFamilies >= 2 ? 1.0 - std::sqrt(1.0 - rho) : rho;
     if (!(perFamily > 0)) return hi;
     return std::clamp(style.strokeWidthPx / perFamily, lo, hi);
+}
+
+double maxHatchDensity(const styles::HatchStyle &style) {
+    if (!(style.strokeWidthPx > 0) || !(style.minSpacingPx > 0)) return 0.0;
+    const double perFamily = std::min(1.0, style.strokeWidthPx / style.minSpacingPx);
+    const bool cross = style.crossDensity <= 1.0;
+    return cross ? 1.0 - (1.0 - perFamily) * (1.0 - perFamily) : perFamily;
 }
 
 double localSpacingPx(double density, const styles::HatchStyle &style) {

@@ -49,6 +49,12 @@ int hatchFamilies(double density, const styles::HatchStyle &style);
 /// share it, clamped to [minSpacingPx, maxSpacingPx]. Density <= 0 gives maxSpacingPx.
 double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &style);
 
+/// The darkest ink coverage the style can lay down: two crossing families at
+/// minSpacingPx, 1 − (1 − min(1, w / minSpacingPx))². The tone curve maps the
+/// darkest tone here (renderIllustration), so every target density is one the
+/// hatching can actually reach instead of a darkness it can only fall short of.
+double maxHatchDensity(const styles::HatchStyle &style);
+
 /// d_sep of the hatches at `density` (hatchSpacingPx with hatchFamilies, at least
 /// one family): the radius of the keep-away disc around singularities.
 double localSpacingPx(double density, const styles::HatchStyle &style);

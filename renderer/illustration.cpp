@@ -38,9 +38,12 @@ Illustration renderIllustration(const IllustrationInput &in) {
     const std::vector<double> tone = shadeLambert(out.gbuffer, *in.scene, *in.mesh, camera, in.lights, in.shading);
     out.targetDensity.assign(out.gbuffer.nPixels(), 0.0f);
     const double gamma = in.style.hatch.toneGamma;
+    // The curve saturates at the darkest coverage the style can draw: asking for
+    // more would leave the whole shadow side short of its target by construction.
+    const double darkest = maxHatchDensity(in.style.hatch);
     for (size_t i = 0; i < tone.size(); ++i)
         if (out.gbuffer.faceId[i] >= 0)
-            out.targetDensity[i] = float(std::pow(std::clamp(1.0 - tone[i], 0.0, 1.0), gamma));
+            out.targetDensity[i] = float(std::min(darkest, std::pow(std::clamp(1.0 - tone[i], 0.0, 1.0), gamma)));
     lap("tone");
 
     out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
@@ -75,10 +78,11 @@ Image illustrationExr(const Illustration &il) {
     surface.mask.assign(n, 0.0f);
     for (size_t i = 0; i < n; ++i) {
         if (il.gbuffer.faceId[i] < 0) continue;
-        surface.depth[i] = float(il.gbuffer.depth[i]);
-        surface.normalX[i] = float(il.gbuffer.normal[i].x());
-        surface.normalY[i] = float(il.gbuffer.normal[i].y());
-        surface.normalZ[i] = float(il.gbuffer.normal[i].z());
+        surface.depth[i] = il.gbuffer.depth[i];
+        const Vec3 nrm = il.gbuffer.normal(i);
+        surface.normalX[i] = float(nrm.x());
+        surface.normalY[i] = float(nrm.y());
+        surface.normalZ[i] = float(nrm.z());
         surface.mask[i] = 1.0f;
     }
     surface.angle0 = il.screen.angle0;

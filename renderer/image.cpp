@@ -93,6 +93,14 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
         throw InputError(FileLoc{path}, "cannot write an empty image (" +
                                             std::to_string(image.width) + "x" +
                                             std::to_string(image.height) + ")");
+    // JPEG has no alpha: an RGBA picture (our composite is opaque paper) loses its A.
+    if (format == Format::Jpeg && image.nChannels == 4 && alphaIndex(image) == 3) {
+        Image rgb(image.width, image.height, {image.channelNames[0], image.channelNames[1], image.channelNames[2]});
+        for (size_t p = 0, n = size_t(image.width) * size_t(image.height); p < n; ++p)
+            for (size_t c = 0; c < 3; ++c) rgb.data[3 * p + c] = image.data[4 * p + c];
+        writeImage(rgb, path, options);
+        return;
+    }
     if (format == Format::Jpeg && image.nChannels != 1 && image.nChannels != 3)
         throw InputError(FileLoc{path},
                          "JPEG holds 1 or 3 channels, the image has " + std::to_string(image.nChannels),
@@ -120,6 +128,9 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
     spec.alpha_channel = alpha;
     // Our alpha is straight (not premultiplied): tell the writers not to divide by it.
     if (alpha >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
+    // An empty DateTime stops the EXR and TIFF writers stamping the current time:
+    // the same render must give the same bytes on every run.
+    spec.attribute("DateTime", "");
     if (eightBit) {
         spec.attribute("oiio:ColorSpace", "sRGB");
         if (format == Format::Jpeg) spec.attribute("CompressionQuality", 95);

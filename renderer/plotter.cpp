@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -199,7 +200,9 @@ void simplifyStroke(Stroke &stroke, double tolerancePx) {
     // Explicit stack: recursion depth would follow the point count on a long spiral.
     std::vector<std::pair<size_t, size_t>> stack{{0, n - 1}};
     while (!stack.empty()) {
-        const auto [a, b] = stack.back();
+        // Plain copies, not a structured binding: clang 14 cannot capture those in the lambda below.
+        const size_t a = stack.back().first;
+        const size_t b = stack.back().second;
         stack.pop_back();
         if (b <= a + 1) continue;
         const Vec2 chord = p[b] - p[a];
@@ -239,6 +242,198 @@ void simplifyStroke(Stroke &stroke, double tolerancePx) {
         }
     stroke.points.resize(k);
     stroke.widths.resize(k);
+}
+
+namespace {
+
+/// The t in [0, 1] where lo <= f0 + t·df <= hi, as [t0, t1]; t0 > t1 when empty.
+std::pair<double, double> linearBand(double f0, double df, double lo, double hi) {
+    if (std::abs(df) < 1e-300) return (f0 >= lo && f0 <= hi) ? std::pair{0.0, 1.0} : std::pair{1.0, 0.0};
+    double a = (lo - f0) / df, b = (hi - f0) / df;
+    if (a > b) std::swap(a, b);
+    return {std::max(a, 0.0), std::min(b, 1.0)};
+}
+
+/// Uniform grid of segments (compressed rows: cell -> segment ids in increasing
+/// order), each segment in every cell its box, grown by `pad`, touches.
+class SegmentGrid {
+public:
+    SegmentGrid(const std::vector<std::pair<Vec2, Vec2>> &segs, double pad) : m_pad(pad) {
+        Eigen::AlignedBox2d box;
+        for (const auto &[a, b] : segs) {
+            box.extend(a);
+            box.extend(b);
+        }
+        if (box.isEmpty()) box.extend(Vec2::Zero());
+        m_origin = box.min() - Vec2::Constant(pad);
+        const Vec2 size = (box.max() - box.min()).array() + 2 * pad + 1e-9;
+        m_cell = std::max({4 * pad, std::sqrt(size.x() * size.y() / std::max<double>(1, double(segs.size()))),
+                           size.x() / 2048, size.y() / 2048, 1e-9});
+        m_w = std::clamp(int(size.x() / m_cell) + 1, 1, 2049);
+        m_h = std::clamp(int(size.y() / m_cell) + 1, 1, 2049);
+        std::vector<int> count(size_t(m_w) * m_h + 1, 0);
+        const auto each = [&](int id, auto &&fn) {
+            const auto [x0, y0, x1, y1] = range(segs[size_t(id)].first, segs[size_t(id)].second);
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) fn(size_t(y) * m_w + x);
+        };
+        for (int id = 0; id < int(segs.size()); ++id) each(id, [&](size_t c) { ++count[c + 1]; });
+        for (size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+        m_start = count;
+        m_ids.resize(size_t(count.back()));
+        for (int id = 0; id < int(segs.size()); ++id) each(id, [&](size_t c) { m_ids[size_t(count[c]++)] = id; });
+    }
+    /// Calls fn(id) for every segment id below `before` sharing a cell with the
+    /// box of a–b grown by the pad (an id may come more than once).
+    template <typename Fn> void visit(const Vec2 &a, const Vec2 &b, int before, Fn &&fn) const {
+        const auto [x0, y0, x1, y1] = range(a, b);
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+                const size_t c = size_t(y) * m_w + x;
+                for (int k = m_start[c]; k < m_start[c + 1] && m_ids[size_t(k)] < before; ++k) fn(m_ids[size_t(k)]);
+            }
+    }
+
+private:
+    std::array<int, 4> range(const Vec2 &a, const Vec2 &b) const {
+        const auto cx = [&](double v) { return std::clamp(int(std::floor((v - m_origin.x()) / m_cell)), 0, m_w - 1); };
+        const auto cy = [&](double v) { return std::clamp(int(std::floor((v - m_origin.y()) / m_cell)), 0, m_h - 1); };
+        return {cx(std::min(a.x(), b.x()) - m_pad), cy(std::min(a.y(), b.y()) - m_pad),
+                cx(std::max(a.x(), b.x()) + m_pad), cy(std::max(a.y(), b.y()) + m_pad)};
+    }
+    double m_pad;
+    Vec2 m_origin;
+    double m_cell = 1;
+    int m_w = 1, m_h = 1;
+    std::vector<int> m_start, m_ids;
+};
+
+/// Point and width at arc length `s` along a stroke with cumulative lengths `cum`.
+std::pair<Vec2, float> pointAtArc(const Stroke &st, const std::vector<double> &cum, double s) {
+    const size_t n = st.points.size();
+    size_t j = size_t(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin());
+    j = std::clamp<size_t>(j, 1, n - 1) - 1; // segment j: points j, j+1
+    const double len = cum[j + 1] - cum[j];
+    const double t = len > 0 ? std::clamp((s - cum[j]) / len, 0.0, 1.0) : 0.0;
+    const Vec2 p = (1 - t) * st.points[j] + t * st.points[j + 1];
+    const float w = float((1 - t) * st.widths[j] + t * st.widths[j + 1]);
+    return {p, w};
+}
+
+} // namespace
+
+std::vector<Stroke> removeOverlaps(std::vector<Stroke> strokes, double tolerancePx, double minGapPx,
+                                   double *removedPx) {
+    if (!(tolerancePx > 0) || strokes.empty()) return strokes;
+    for (Stroke &s : strokes)
+        if (s.widths.size() != s.points.size()) s.widths.assign(s.points.size(), 1.0f);
+    std::vector<std::pair<Vec2, Vec2>> segs;
+    std::vector<int> firstSeg(strokes.size() + 1, 0);
+    for (size_t i = 0; i < strokes.size(); ++i) {
+        firstSeg[i] = int(segs.size());
+        for (size_t j = 1; j < strokes[i].points.size(); ++j) segs.push_back({strokes[i].points[j - 1], strokes[i].points[j]});
+    }
+    firstSeg[strokes.size()] = int(segs.size());
+    const SegmentGrid grid(segs, tolerancePx);
+    const double sinMax = std::sin(kMaxOverlapAngleDeg * 3.14159265358979323846 / 180.0);
+
+    // Kept parts of the segments processed so far, as t intervals: segment k's are keptAt[k]..keptAt[k+1].
+    std::vector<std::pair<double, double>> kept;
+    kept.reserve(segs.size() + 16);
+    std::vector<int> keptAt(segs.size() + 1, 0);
+    std::vector<int> stamp(segs.size(), -1);
+    std::vector<std::pair<double, double>> covered;
+
+    std::vector<Stroke> out;
+    out.reserve(strokes.size());
+    double removed = 0;
+    for (size_t i = 0; i < strokes.size(); ++i) {
+        Stroke &st = strokes[i];
+        const int n = int(st.points.size());
+        std::vector<double> cum(size_t(std::max(n, 1)), 0.0);
+        for (int j = 1; j < n; ++j) cum[size_t(j)] = cum[size_t(j) - 1] + dist(st.points[size_t(j) - 1], st.points[size_t(j)]);
+        // Kept ranges of this stroke in arc length, built segment by segment.
+        std::vector<std::pair<double, double>> ranges;
+        bool untouched = true;
+        for (int j = 0; j + 1 < n; ++j) {
+            const int c = firstSeg[i] + j;
+            const Vec2 &P = segs[size_t(c)].first, &Q = segs[size_t(c)].second;
+            const Vec2 u = Q - P;
+            const double uLen = u.norm();
+            covered.clear();
+            if (uLen > 0) {
+                grid.visit(P, Q, c, [&](int o) {
+                    if (stamp[size_t(o)] == c) return;
+                    stamp[size_t(o)] = c;
+                    const Vec2 &A = segs[size_t(o)].first;
+                    const Vec2 v = segs[size_t(o)].second - A;
+                    const double vLen = v.norm();
+                    if (!(vLen > 0) || std::abs(u.x() * v.y() - u.y() * v.x()) > sinMax * uLen * vLen) return;
+                    const Vec2 e = v / vLen, nrm(-e.y(), e.x());
+                    for (int k = keptAt[size_t(o)]; k < keptAt[size_t(o) + 1]; ++k) {
+                        const auto [ka, kb] = kept[size_t(k)];
+                        const Vec2 a = A + ka * v;
+                        const double len = (kb - ka) * vLen;
+                        const double d0 = nrm.dot(P - a), d1 = nrm.dot(Q - a);
+                        const double s0 = e.dot(P - a), s1 = e.dot(Q - a);
+                        const auto [t0, t1] = linearBand(d0, d1 - d0, -tolerancePx, tolerancePx);
+                        const auto [r0, r1] = linearBand(s0, s1 - s0, 0.0, len);
+                        const double lo = std::max(t0, r0), hi = std::min(t1, r1);
+                        if ((hi - lo) * uLen > 1e-9) covered.push_back({lo, hi});
+                    }
+                });
+            }
+            std::sort(covered.begin(), covered.end());
+            double at = 0; // kept = [0, 1] minus the union of covered
+            for (const auto &[lo, hi] : covered) {
+                if (lo > at) kept.push_back({at, lo});
+                at = std::max(at, hi);
+            }
+            if (at < 1) kept.push_back({at, 1.0});
+            keptAt[size_t(c) + 1] = int(kept.size());
+            if (!covered.empty()) untouched = false;
+            const double base = cum[size_t(j)], len = cum[size_t(j) + 1] - cum[size_t(j)];
+            for (int k = keptAt[size_t(c)]; k < keptAt[size_t(c) + 1]; ++k) {
+                const double a = base + kept[size_t(k)].first * len, b = base + kept[size_t(k)].second * len;
+                if (!ranges.empty() && a - ranges.back().second <= 1e-12) ranges.back().second = b;
+                else ranges.push_back({a, b});
+            }
+        }
+        if (untouched || n < 2 || cum.back() <= 0) {
+            out.push_back(std::move(st));
+            continue;
+        }
+        // Rejoin across short interior overlaps, drop slivers.
+        std::vector<std::pair<double, double>> joined;
+        for (const auto &r : ranges) {
+            if (!joined.empty() && r.first - joined.back().second < minGapPx) joined.back().second = r.second;
+            else joined.push_back(r);
+        }
+        double keptLen = 0;
+        for (const auto &[a, b] : joined) {
+            if (b - a < tolerancePx) continue;
+            keptLen += b - a;
+            Stroke piece;
+            piece.kind = st.kind;
+            piece.family = st.family;
+            piece.id = st.id;
+            const auto [pa, wa] = pointAtArc(st, cum, a);
+            piece.points.push_back(pa);
+            piece.widths.push_back(wa);
+            for (int k = 0; k < n; ++k)
+                if (cum[size_t(k)] > a && cum[size_t(k)] < b) {
+                    piece.points.push_back(st.points[size_t(k)]);
+                    piece.widths.push_back(st.widths[size_t(k)]);
+                }
+            const auto [pb, wb] = pointAtArc(st, cum, b);
+            piece.points.push_back(pb);
+            piece.widths.push_back(wb);
+            out.push_back(std::move(piece));
+        }
+        removed += cum.back() - keptLen;
+    }
+    if (removedPx) *removedPx += removed;
+    return out;
 }
 
 std::vector<Stroke> mergeStrokes(std::vector<Stroke> strokes, double tolerancePx) {
@@ -397,6 +592,8 @@ std::vector<Stroke> optimizeForPlotter(std::vector<Stroke> strokes, const Plotte
         if (removeDuplicatePoints(s)) clean.push_back(std::move(s));
     if (report) report->penDownInputPx += penDownLength(clean);
 
+    clean = removeOverlaps(std::move(clean), options.overlapTolerancePx, options.overlapMinGapPx,
+                           report ? &report->overlapRemovedPx : nullptr);
     clean = mergeStrokes(std::move(clean), options.mergeTolerancePx);
     // Strokes simplify independently, each writing only itself: thread-count independent.
     parallelFor(0, int64_t(clean.size()), [&](int64_t i) {

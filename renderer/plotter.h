@@ -17,6 +17,8 @@ namespace rosy::renderer {
 struct PlotterOptions {
     double mergeTolerancePx = 0.5;     ///< strokes whose ends are this close are joined (0 disables)
     double simplifyTolerancePx = 0.25; ///< Ramer–Douglas–Peucker tolerance (0 keeps every point)
+    double overlapTolerancePx = 0.1;   ///< ink within this of earlier ink, near-parallel, is dropped (0 disables)
+    double overlapMinGapPx = 1.0;      ///< an overlap inside a stroke shorter than this is kept (a pen lift costs more)
     bool sort = true;                  ///< greedy nearest-neighbour order + 2-opt
     int twoOptWindow = 32;             ///< 2-opt considers segment reversals of at most this many strokes
     int twoOptMaxPasses = 3;           ///< sweeps over the order; stops earlier when a sweep finds nothing
@@ -29,6 +31,7 @@ struct PlotterReport {
     double penUpUnsortedPx = 0; ///< travel of the input strokes in their given order and direction
     double penDownPx = 0;       ///< drawn length after the pass
     double penDownInputPx = 0;  ///< drawn length of the input
+    double overlapRemovedPx = 0; ///< length dropped as collinear overlap (removeOverlaps)
     int paths = 0;              ///< strokes after merging
 };
 
@@ -42,6 +45,23 @@ bool removeDuplicatePoints(Stroke &stroke);
 /// points keep their own widths (they are input points), so the width profile
 /// is the input's sampled at the kept points.
 void simplifyStroke(Stroke &stroke, double tolerancePx);
+
+/// Drops duplicate and collinear-overlapping ink. Strokes are taken in order and
+/// segment by segment; the part of a segment that lies within `tolerancePx` of ink
+/// already kept (earlier strokes, or earlier segments of the same stroke: a
+/// retrace) by a segment at most kMaxOverlapAngleDeg from parallel (either
+/// direction) is removed. Crossings are never cut (the angle bound), and a stroke
+/// continuing straight on never overlaps its own previous segment. Removing a
+/// covered run inside a stroke splits it; runs shorter than `minGapPx` inside a
+/// stroke are kept, so one stroke does not become two for a sliver. Pieces
+/// shorter than `tolerancePx` are dropped; zero-length strokes (dots) pass
+/// through. Widths at cut points are interpolated. Deterministic, single-threaded.
+/// Adds the removed length to *removedPx when given.
+std::vector<Stroke> removeOverlaps(std::vector<Stroke> strokes, double tolerancePx, double minGapPx = 1.0,
+                                   double *removedPx = nullptr);
+
+/// Largest angle between two segments whose overlap counts as collinear.
+constexpr double kMaxOverlapAngleDeg = 10.0;
 
 /// Joins strokes whose ends meet within `tolerancePx`, reversing strokes as
 /// needed. Chains grow greedily from the lowest-index stroke, always taking the
@@ -60,7 +80,7 @@ double penUpLength(const std::vector<Stroke> &strokes);
 /// Sum of polyline lengths.
 double penDownLength(const std::vector<Stroke> &strokes);
 
-/// The whole pass on one layer: dedupe, merge, simplify, sort. Adds the
+/// The whole pass on one layer: dedupe, drop overlaps, merge, simplify, sort. Adds the
 /// layer's measurements to *report when it is not null. Empty input gives empty output.
 std::vector<Stroke> optimizeForPlotter(std::vector<Stroke> strokes, const PlotterOptions &options,
                                        PlotterReport *report = nullptr);

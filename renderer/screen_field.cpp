@@ -144,7 +144,7 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             const size_t i = size_t(gbuffer.index(x, int(y)));
             const int f = gbuffer.faceId[i];
             if (f < 0) continue;
-            const Vec2 &b = gbuffer.barycentric[i];
+            const Vec2 b = gbuffer.barycentric[i].cast<double>();
             const auto &c = corner[size_t(f)];
             // Representation vectors add linearly (P&Z Eq. 3), so interpolating them is
             // interpolating the N-RoSy; the member angle is taken afterwards.
@@ -154,7 +154,7 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             if (!(strength > 1e-12)) continue;
             const Vec3 m0 = memberDirection(frames, f, u, nSym);
             const Vec3 m1 = faceNormal[size_t(f)].cross(m0);
-            const Eigen::Matrix<double, 2, 3> J = camera.projectJacobian(gbuffer.position[i]);
+            const Eigen::Matrix<double, 2, 3> J = camera.projectJacobian(gbuffer.position(i));
             const Vec2 s0 = J * m0, s1 = J * m1;
             // Edge-on faces project their tangents to (nearly) nothing: no direction there.
             const double scale = J.norm();

@@ -19,8 +19,8 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
                 size_t i = size_t(g.index(x, int(y)));
                 int f = g.faceId[i];
                 if (f < 0) continue;
-                const Vec3 &p = g.position[i];
-                Vec3 n = g.normal[i];
+                const Vec3 p = g.position(i);
+                Vec3 n = g.normal(i);
                 Vec3 ng = mesh.faceNormal(f);
                 // The back of an open surface is lit like its front, as seen.
                 if (ng.dot(camera.toViewer(p)) < 0.0) {

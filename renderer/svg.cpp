@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 namespace rosy::renderer {
 
@@ -70,11 +71,40 @@ std::optional<std::pair<double, double>> parsePaperSize(const std::string &name)
     }
 }
 
-std::string svgDocument(const StrokeList &list, const SvgOptions &options, SvgReport *report) {
+SvgOptions svgOptionsFor(const styles::PageStyle &page) {
+    SvgOptions o;
+    o.pageWidthMm = page.widthMm;
+    o.pageHeightMm = page.heightMm;
+    o.marginMm = page.marginMm;
+    o.orientation = page.orientation;
+    o.penWidthMm = page.penWidthMm;
+    return o;
+}
+
+std::pair<double, double> orientedPage(double widthMm, double heightMm, styles::PageStyle::Orientation orientation,
+                                       double marginMm, int pictureW, int pictureH) {
+    using O = styles::PageStyle::Orientation;
+    const double shortSide = std::min(widthMm, heightMm), longSide = std::max(widthMm, heightMm);
+    switch (orientation) {
+    case O::Portrait: return {shortSide, longSide};
+    case O::Landscape: return {longSide, shortSide};
+    case O::Auto: break;
+    }
+    const auto fit = [&](double w, double h) {
+        return std::min((w - 2 * marginMm) / std::max(pictureW, 1), (h - 2 * marginMm) / std::max(pictureH, 1));
+    };
+    if (fit(heightMm, widthMm) > fit(widthMm, heightMm) * (1 + 1e-12)) return {heightMm, widthMm};
+    return {widthMm, heightMm};
+}
+
+std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, SvgReport *report) {
     if (list.width <= 0 || list.height <= 0)
         throw InputError(FileLoc{}, "SVG: stroke list has no size (" + std::to_string(list.width) + "x" +
                                         std::to_string(list.height) + " px)",
                          "render at a positive resolution");
+    SvgOptions options = optionsIn;
+    std::tie(options.pageWidthMm, options.pageHeightMm) = orientedPage(
+        options.pageWidthMm, options.pageHeightMm, options.orientation, options.marginMm, list.width, list.height);
     const double availW = options.pageWidthMm - 2 * options.marginMm;
     const double availH = options.pageHeightMm - 2 * options.marginMm;
     if (!(availW > 0) || !(availH > 0) || !std::isfinite(availW) || !std::isfinite(availH))
@@ -126,9 +156,20 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &options, SvgRe
         for (const Stroke &s : layers[l]) {
             const size_t n = s.points.size();
             if (n == 0) continue;
-            double widthSum = 0;
-            for (float w : s.widths) widthSum += w;
-            const double widthMm = s.widths.empty() ? scale : widthSum / double(s.widths.size()) * scale;
+            // One width per path (SVG strokes have no width profile): the stroke's
+            // length-weighted mean, so tapers and pressure keep their share of ink.
+            double widthLen = 0, len = 0, widthSum = 0;
+            for (size_t i = 0; i < s.widths.size(); ++i) {
+                widthSum += s.widths[i];
+                if (i == 0 || s.widths.size() != n) continue;
+                const double l = (s.points[i] - s.points[i - 1]).norm();
+                widthLen += 0.5 * (s.widths[i] + s.widths[i - 1]) * l;
+                len += l;
+            }
+            const double meanWidth = len > 0 ? widthLen / len
+                                     : s.widths.empty() ? 1.0
+                                                        : widthSum / double(s.widths.size());
+            const double widthMm = options.penWidthMm > 0 ? options.penWidthMm : meanWidth * scale;
             // Long paths are split into pieces sharing their joining vertex, so the line stays continuous.
             for (size_t begin = 0; begin + 1 < n || begin == 0; begin += kMaxPathVertices - 1) {
                 const size_t end = std::min(n, begin + kMaxPathVertices);
@@ -164,6 +205,9 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &options, SvgRe
         report->penUpRatioVsUnsorted = plot.penUpUnsortedPx > 0 ? plot.penUpPx / plot.penUpUnsortedPx : 1.0;
         report->paths = paths;
         report->mmPerPx = scale;
+        report->pageWidthMm = options.pageWidthMm;
+        report->pageHeightMm = options.pageHeightMm;
+        report->overlapRemovedMm = plot.overlapRemovedPx * scale;
     }
     return out;
 }

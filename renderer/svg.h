@@ -7,9 +7,12 @@
 /// same numbers, so one user unit is 1 mm and y points down, as in the raster.
 /// Layers are Inkscape layers: "hatch 0", "hatch 1", "contours", and
 /// "hidden contours" (dashed) when the list holds any.
+/// Page size, margin, orientation and pen width come from the style's `page`
+/// (styles::PageStyle, svgOptionsFor()); the CLI may override them.
 
 #include "renderer/plotter.h"
 #include "renderer/strokes.h"
+#include "styles/style.h"
 
 #include <optional>
 #include <string>
@@ -21,6 +24,9 @@ struct SvgOptions {
     double pageWidthMm = 210;  ///< A4 portrait by default
     double pageHeightMm = 297;
     double marginMm = 10;      ///< on every side; the picture is fitted inside
+    /// Auto turns the page when that shows the picture larger; Portrait/Landscape force it.
+    styles::PageStyle::Orientation orientation = styles::PageStyle::Orientation::Auto;
+    double penWidthMm = 0;     ///< > 0: every path this wide; 0: the stroke's mean width scaled to the page
     bool plotterPass = true;   ///< merge, simplify and order strokes (plotter.h)
     PlotterOptions plotter;    ///< tolerances in raster px
     bool hiddenContours = true; ///< write the dashed layer when hidden contours exist
@@ -34,12 +40,24 @@ struct SvgReport {
     double penUpRatioVsUnsorted = 1; ///< penUpMm / penUpUnsortedMm (1 when the input has no travel)
     int paths = 0;               ///< <path> elements written (after merging and splitting)
     double mmPerPx = 0;          ///< scale of the raster-to-page mapping
+    double pageWidthMm = 0, pageHeightMm = 0; ///< the page written (after orientation)
+    double overlapRemovedMm = 0; ///< collinear-overlapping ink the plotter pass dropped
 };
 
 /// Page size (width, height) in mm for "a4", "a3", "letter" (case-insensitive,
 /// portrait), or "WxH" in mm such as "300x200". std::nullopt for anything else
 /// or non-positive sizes.
 std::optional<std::pair<double, double>> parsePaperSize(const std::string &name);
+
+/// SVG options for a style's page; plotter settings at their defaults.
+SvgOptions svgOptionsFor(const styles::PageStyle &page);
+
+/// The page (width, height) in mm that `orientation` gives for a picture of
+/// pictureW×pictureH px: Portrait puts the shorter side across, Landscape the
+/// longer; Auto keeps the size as written unless turning it fits the picture
+/// (inside `marginMm`) strictly larger.
+std::pair<double, double> orientedPage(double widthMm, double heightMm, styles::PageStyle::Orientation orientation,
+                                       double marginMm, int pictureW, int pictureH);
 
 /// The SVG document as text. Deterministic (fixed 3-decimal numbers, no
 /// timestamps), identical for any thread count. Non-finite points are dropped;

@@ -3,10 +3,13 @@
 #include "field/mesh_io.h"
 #include "field/primitives.h"
 #include "renderer/image.h"
+#include "renderer/svg.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <cmath>
 #include <filesystem>
@@ -104,6 +107,9 @@ public:
     explicit Parser(std::string path) : m_path(std::move(path)) {}
 
     FileLoc loc(const YAML::Node &node) const {
+        // A node a --set override put in the tree is located at that override.
+        for (const auto &[origin, where] : m_origins)
+            if (origin.is(node)) return where;
         YAML::Mark m = node.Mark();
         // yaml-cpp marks are 0-based; a null mark (-1) means "unknown".
         return FileLoc{m_path, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0};
@@ -210,13 +216,59 @@ public:
 
     const std::string &path() const { return m_path; }
 
+    /// Locates `node` and everything below it at `where` (a --set override).
+    void addOrigin(const YAML::Node &node, const FileLoc &where) {
+        m_origins.emplace_back(node, where);
+        if (node.IsMap())
+            for (auto it = node.begin(); it != node.end(); ++it) {
+                addOrigin(it->first, where);
+                addOrigin(it->second, where);
+            }
+        else if (node.IsSequence())
+            for (size_t i = 0; i < node.size(); ++i) addOrigin(node[i], where);
+    }
+
 private:
     std::string m_path;
+    std::vector<std::pair<YAML::Node, FileLoc>> m_origins;
 };
 
-void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
-    mesh.loc = p.loc(node);
-    if (node.IsScalar()) {
+/// `mesh.transform: {translate: [x, y, z], rotate: [rx, ry, rz], scale: s | [sx, sy, sz]}`.
+void parseTransform(const Parser &p, const YAML::Node &node, TransformDesc &t) {
+    t.given = true;
+    t.loc = p.loc(node);
+    for (const auto &[key, value] : p.entries(node, "mesh.transform", {"translate", "rotate", "scale"})) {
+        const std::string &k = key.Scalar();
+        const FileLoc l = p.loc(value);
+        if (k == "translate") {
+            t.translate = {p.vec3(value, "mesh.transform.translate"), l};
+        } else if (k == "rotate") {
+            t.rotateDeg = {p.vec3(value, "mesh.transform.rotate (degrees)", -3600.0, 3600.0), l};
+        } else {
+            const std::string hint = "scale must be positive: a number like 2 or a list [sx, sy, sz] (mirroring "
+                                     "and flattening are not supported)";
+            auto one = [&](const YAML::Node &n, const std::string &what) {
+                const double v = p.number(n, what, -1e12, 1e12);
+                if (!(v > 0)) p.fail(n, what + " must be positive, got " + Parser::fmt(v), hint);
+                if (v < 1e-6 || v > 1e6) p.fail(n, what + " must be in [1e-06, 1e+06], got " + Parser::fmt(v), hint);
+                return v;
+            };
+            if (value.IsSequence()) {
+                if (value.size() != 3)
+                    p.fail(value, "mesh.transform.scale must be a number or a list of 3 numbers, got a list of " +
+                                      std::to_string(value.size()), hint);
+                t.scale = {Vec3(one(value[0], "mesh.transform.scale[0]"), one(value[1], "mesh.transform.scale[1]"),
+                                one(value[2], "mesh.transform.scale[2]")),
+                           l};
+            } else {
+                t.scale = {Vec3::Constant(one(value, "mesh.transform.scale")), l};
+            }
+        }
+    }
+}
+
+void parseMeshFile(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
+    {
         std::string value = p.text(node, "mesh");
         fs::path file(value);
         if (file.is_relative()) file = fs::path(p.path()).parent_path() / file;
@@ -228,16 +280,38 @@ void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
         if (fs::is_directory(file, ec))
             p.fail(node, "mesh '" + file.string() + "' is a folder, not a file");
         mesh.file = Located<std::string>{file.string(), p.loc(node)};
+    }
+}
+
+void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
+    mesh.loc = p.loc(node);
+    if (node.IsScalar()) {
+        parseMeshFile(p, node, mesh);
         return;
     }
     if (!node.IsMap())
         p.fail(node, "mesh must be a file path or a map like {primitive: icosphere}, got " +
                          Parser::kindOf(node));
     // Find the primitive first: which parameters are allowed depends on it.
-    YAML::Node nameNode;
-    for (auto it = node.begin(); it != node.end(); ++it)
-        if (it->first.IsScalar() && it->first.Scalar() == "primitive") nameNode = it->second;
-    if (!nameNode) p.fail(node, "mesh map needs a 'primitive' key", "e.g. mesh: {primitive: icosphere}");
+    // A default-constructed YAML::Node converts to true, so presence is tracked apart.
+    YAML::Node nameNode, fileNode;
+    bool hasName = false, hasFile = false;
+    for (auto it = node.begin(); it != node.end(); ++it) {
+        if (it->first.IsScalar() && it->first.Scalar() == "primitive") nameNode = it->second, hasName = true;
+        if (it->first.IsScalar() && it->first.Scalar() == "file") fileNode = it->second, hasFile = true;
+    }
+    if (hasName && hasFile)
+        p.fail(fileNode, "mesh has both 'file' and 'primitive'", "keep one of them");
+    if (hasFile) {
+        for (const auto &[key, value] : p.entries(node, "mesh (file)", {"file", "transform"})) {
+            if (key.Scalar() == "file") parseMeshFile(p, value, mesh);
+            else parseTransform(p, value, mesh.transform);
+        }
+        return;
+    }
+    if (!hasName)
+        p.fail(node, "mesh map needs a 'primitive' or a 'file' key",
+               "e.g. mesh: {primitive: icosphere} or mesh: {file: bunny.off, transform: {scale: 2}}");
     std::string name = p.text(nameNode, "mesh.primitive");
     const PrimitiveSpec *spec = nullptr;
     for (const auto &s : primitiveSpecs())
@@ -245,7 +319,7 @@ void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
     if (!spec)
         p.fail(nameNode, "unknown primitive '" + name + "'", suggest(name, primitiveNames()));
     mesh.primitive = Located<std::string>{name, p.loc(nameNode)};
-    std::vector<std::string> allowed{"primitive"};
+    std::vector<std::string> allowed{"primitive", "transform"};
     for (const auto &ps : spec->params) {
         allowed.push_back(ps.name);
         mesh.params[ps.name] = Located<double>{ps.defaultValue, {}};
@@ -253,6 +327,10 @@ void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
     for (const auto &[key, value] : p.entries(node, "mesh (" + name + ")", allowed)) {
         const std::string &k = key.Scalar();
         if (k == "primitive") continue;
+        if (k == "transform") {
+            parseTransform(p, value, mesh.transform);
+            continue;
+        }
         for (const auto &ps : spec->params) {
             if (k != ps.name) continue;
             std::string what = "mesh." + k;
@@ -262,6 +340,9 @@ void parseMesh(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
         }
     }
 }
+
+/// Largest camera.resolution width x height (documented in scenes/README.md).
+constexpr long long kMaxPixels = 4096LL * 4096LL;
 
 void parseCamera(const Parser &p, const YAML::Node &node, CameraDesc &cam) {
     cam.loc = p.loc(node);
@@ -308,6 +389,15 @@ void parseCamera(const Parser &p, const YAML::Node &node, CameraDesc &cam) {
             cam.resolution = {{p.integer(value[0], "camera.resolution width", 1, 16384),
                                p.integer(value[1], "camera.resolution height", 1, 16384)},
                               l};
+            // Rejected before anything is allocated: the render keeps about 250
+            // bytes per pixel (G-buffer, screen field, layers), 4 GB at the limit.
+            const long long pixels = 1LL * cam.resolution.value[0] * cam.resolution.value[1];
+            if (pixels > kMaxPixels)
+                p.fail(value, "camera.resolution " + std::to_string(cam.resolution.value[0]) + " x " +
+                                  std::to_string(cam.resolution.value[1]) + " is " + std::to_string(pixels) +
+                                  " pixels, more than the limit of " + std::to_string(kMaxPixels) +
+                                  " (4096 x 4096; about 250 bytes each)",
+                       "render at most 16.7 million pixels, or use an SVG output for print sizes");
         }
     }
     cam.automatic = autoFlag ? autoFlag->value : !hasPosition;
@@ -391,7 +481,7 @@ styles::Rgb colour(const Parser &p, const YAML::Node &node, const std::string &w
 /// Ranges keep values the renderer can honour (a width must be positive, a
 /// density is a coverage fraction, a taper over half a stroke would overlap).
 struct StyleKey {
-    enum class Kind { Number, Integer, Boolean, Colour };
+    enum class Kind { Number, Integer, Boolean, Colour, Text };
     const char *key;
     Kind kind;
     double lo, hi;
@@ -434,6 +524,10 @@ const std::vector<StyleKey> &styleKeyTable() {
         ROSY_NUM("contour.crease_angle_deg", 0.0, 180.0, contour.creaseAngleDeg),
         ROSY_BOOL("contour.borders", contour.borders),
         ROSY_BOOL("contour.hidden", contour.hidden),
+        StyleKey{"page.size", SK::Text, 0, 0, nullptr, nullptr, nullptr, nullptr},
+        ROSY_NUM("page.margin_mm", 0.0, 1000.0, page.marginMm),
+        StyleKey{"page.orientation", SK::Text, 0, 0, nullptr, nullptr, nullptr, nullptr},
+        ROSY_NUM("page.pen_width_mm", 0.0, 10.0, page.penWidthMm),
     };
     return table;
 }
@@ -453,6 +547,23 @@ std::vector<std::string> styleKeysUnder(const std::string &prefix) {
         if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
     return names;
+}
+
+/// The text-valued style keys (the SVG page's size and orientation).
+void applyStyleText(const Parser &p, const YAML::Node &value, const std::string &dotted, const std::string &what,
+                    styles::Style &style) {
+    const std::string text = p.text(value, what);
+    if (dotted == "page.size") {
+        const auto size = renderer::parsePaperSize(text);
+        if (!size) p.fail(value, what + ": unknown paper size '" + text + "'", "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
+        std::tie(style.page.widthMm, style.page.heightMm) = *size;
+        return;
+    }
+    using O = styles::PageStyle::Orientation;
+    if (text == "auto") style.page.orientation = O::Auto;
+    else if (text == "portrait") style.page.orientation = O::Portrait;
+    else if (text == "landscape") style.page.orientation = O::Landscape;
+    else p.fail(value, what + " must be auto, portrait or landscape, got '" + text + "'");
 }
 
 /// Sets the style values of one (possibly nested) map of a `style:` block or
@@ -480,6 +591,7 @@ void applyStyleMap(const Parser &p, const YAML::Node &node, const std::string &p
         case SK::Number: *it->number(style) = p.number(value, what, it->lo, it->hi); break;
         case SK::Boolean: *it->boolean(style) = p.boolean(value, what); break;
         case SK::Colour: *it->colour(style) = colour(p, value, what); break;
+        case SK::Text: applyStyleText(p, value, dotted, what, style); break;
         case SK::Integer: {
             if (!value.IsScalar()) p.fail(value, what + " must be a whole number, got " + Parser::kindOf(value));
             unsigned long long v = 0;
@@ -519,6 +631,11 @@ void checkStyle(const styles::Style &style, const std::map<std::string, FileLoc>
                          "hatch.cross_density (" + Parser::fmt(style.hatch.crossDensity) +
                              ") is below hatch.highlight_density (" + Parser::fmt(style.hatch.highlightDensity) + ")",
                          "cross-hatching starts at a darker tone than the first hatches");
+    if (2 * style.page.marginMm >= std::min(style.page.widthMm, style.page.heightMm))
+        throw InputError(where("page.margin_mm", "page.size"),
+                         "page.margin_mm (" + Parser::fmt(style.page.marginMm) + ") leaves no room on a " +
+                             Parser::fmt(style.page.widthMm) + "x" + Parser::fmt(style.page.heightMm) + " mm page",
+                         "use a margin below half the paper's shorter side, or a larger page.size");
 }
 
 /// The build-time preset folder and the installed one next to the executable.
@@ -561,12 +678,95 @@ std::string readText(const std::string &path, const char *what) {
     return ss.str();
 }
 
+/// Limits that keep a hostile file from exhausting the stack or memory (yaml-cpp
+/// itself stops nesting only at depth 2000 and shares aliased nodes, so
+/// `&a [*a]` is a cycle and nested aliases expand exponentially when walked).
+constexpr int kMaxYamlDepth = 32;
+constexpr long kMaxYamlValues = 100000;
+
+void checkYamlShape(const Parser &p, const YAML::Node &node, std::vector<YAML::Node> &stack, long &visited) {
+    if (++visited > kMaxYamlValues)
+        p.fail(node, "the file expands to more than " + std::to_string(kMaxYamlValues) +
+                         " values (aliases of aliases?)",
+               "write the values out instead of nesting aliases");
+    if (!node.IsMap() && !node.IsSequence()) return;
+    for (const YAML::Node &ancestor : stack)
+        if (ancestor.is(node)) p.fail(node, "an alias refers to a node that contains it (a cycle)", "remove that alias");
+    if (int(stack.size()) >= kMaxYamlDepth)
+        p.fail(node, "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
+               "scene files need only a few levels of maps and lists");
+    stack.push_back(node);
+    for (auto it = node.begin(); it != node.end(); ++it) {
+        if (node.IsMap()) {
+            checkYamlShape(p, it->first, stack, visited);
+            checkYamlShape(p, it->second, stack, visited);
+        } else {
+            checkYamlShape(p, *it, stack, visited);
+        }
+    }
+    stack.pop_back();
+}
+
+/// Flow brackets ([ and {) nested deeper than kMaxYamlDepth, found in the text
+/// before yaml-cpp recurses into them, so the error names the exact column.
+/// Brackets inside quoted scalars and comments do not count.
+void checkFlowDepth(const Parser &p, const std::string &text) {
+    int depth = 0, line = 1, col = 0;
+    char quote = 0;
+    bool comment = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        ++col;
+        if (c == '\n') {
+            ++line;
+            col = 0;
+            comment = false;
+            continue;
+        }
+        if (comment) continue;
+        if (quote) {
+            if (c == '\\' && quote == '"') ++i, ++col;
+            else if (c == quote) quote = 0;
+            continue;
+        }
+        const char before = i == 0 ? ' ' : text[i - 1];
+        const bool tokenStart = std::isspace(static_cast<unsigned char>(before)) || before == '[' ||
+                                before == '{' || before == ',' || before == ':';
+        if (c == '#' && std::isspace(static_cast<unsigned char>(before))) comment = true;
+        else if ((c == '"' || c == '\'') && tokenStart) quote = c;
+        else if (c == '[' || c == '{') {
+            if (++depth > kMaxYamlDepth)
+                throw InputError(FileLoc{p.path(), line, col},
+                                 "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
+                                 "scene files need only a few levels of maps and lists");
+        } else if (c == ']' || c == '}') {
+            depth = std::max(0, depth - 1);
+        }
+    }
+}
+
+/// Parses one YAML document and checks its shape: one document, nesting and
+/// alias expansion within the limits above.
 YAML::Node loadYaml(const Parser &p, const std::string &text) {
+    checkFlowDepth(p, text);
+    std::vector<YAML::Node> docs;
     try {
-        return YAML::Load(text);
+        docs = YAML::LoadAll(text);
+    } catch (const YAML::DeepRecursion &e) {
+        throw InputError(p.loc(e.mark), "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
+                         "scene files need only a few levels of maps and lists");
     } catch (const YAML::ParserException &e) {
         throw InputError(p.loc(e.mark), "YAML syntax error: " + e.msg, "check indentation, colons and brackets");
     }
+    for (size_t i = 1; i < docs.size(); ++i)
+        if (docs[i] && !docs[i].IsNull())
+            p.fail(docs[i], "the file holds several YAML documents (separated by '---')",
+                   "keep one scene per file");
+    if (docs.empty()) return YAML::Node();
+    std::vector<YAML::Node> stack;
+    long visited = 0;
+    checkYamlShape(p, docs[0], stack, visited);
+    return docs[0];
 }
 
 void parseStyle(const Parser &p, const YAML::Node &node, StyleDesc &sd) {
@@ -689,7 +889,8 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
     fd.loc = p.loc(node);
     YAML::Node sourceNode;
     for (const auto &[key, value] :
-         p.entries(node, "field", {"symmetry", "source", "smoothing_length", "elements", "edits"})) {
+         p.entries(node, "field",
+                   {"symmetry", "source", "smoothing_length", "weights", "global_smoothing", "elements", "edits"})) {
         const std::string &k = key.Scalar();
         if (k == "symmetry") {
             fd.spec.nSym = p.integer(value, "field.symmetry", 1, field::kMaxSymmetry);
@@ -705,6 +906,18 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
         } else if (k == "smoothing_length") {
             fd.spec.smoothingLength = p.number(value, "field.smoothing_length", 0.0, 10.0);
             fd.smoothingLengthLoc = p.loc(value);
+        } else if (k == "weights") {
+            const std::string s = p.text(value, "field.weights");
+            if (s == "meanvalue") fd.spec.weights = field::LaplaceWeights::MeanValue;
+            else if (s == "cotan") fd.spec.weights = field::LaplaceWeights::Cotan;
+            else p.fail(value, "unknown weights '" + s + "'", suggest(s, {"meanvalue", "cotan"}));
+        } else if (k == "global_smoothing") {
+            for (const auto &[gk, gv] : p.entries(value, "field.global_smoothing", {"iterations", "strength"})) {
+                if (gk.Scalar() == "iterations")
+                    fd.spec.globalSmoothingIterations = p.integer(gv, "field.global_smoothing.iterations", 0, 100000);
+                else
+                    fd.spec.globalSmoothingStrength = p.number(gv, "field.global_smoothing.strength", 1e-6, 1.0);
+            }
         } else if (k == "elements") {
             if (!value.IsSequence())
                 p.fail(value, "field.elements must be a list of maps, got " + Parser::kindOf(value),
@@ -717,6 +930,99 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
     }
     if (fd.spec.source == field::FieldSource::Design && fd.spec.elements.empty())
         p.fail(sourceNode, "a designed field needs at least one element", "add field.elements");
+}
+
+void parsePicture(const Parser &p, const YAML::Node &node, PictureDesc &pd) {
+    pd.loc = p.loc(node);
+    for (const auto &[key, value] : p.entries(node, "picture", {"kind", "separatrices"})) {
+        if (key.Scalar() == "kind") {
+            const std::string s = p.text(value, "picture.kind");
+            if (s == "hatching") pd.kind = {PictureDesc::Kind::Hatching, p.loc(value)};
+            else if (s == "field") pd.kind = {PictureDesc::Kind::Field, p.loc(value)};
+            else p.fail(value, "unknown picture kind '" + s + "'", suggest(s, {"hatching", "field"}));
+        } else {
+            pd.separatrices = {p.boolean(value, "picture.separatrices"), p.loc(value)};
+        }
+    }
+    if (pd.separatrices.value && pd.kind.value != PictureDesc::Kind::Field)
+        throw InputError(pd.separatrices.loc, "picture.separatrices needs picture.kind: field",
+                         "separatrices are drawn on field pictures only");
+}
+
+/// Applies one `--set dotted.path=VALUE` to the scene's YAML tree, before any
+/// validation: VALUE is parsed as YAML, maps on the way are created, and every node
+/// the override brings (value, new keys, new maps) is located at the override, so
+/// a bad value is reported as `--set KEY=VALUE: error: ...`. A list element is
+/// addressed by its 0-based position (`lights.0.intensity=0.5`).
+void applyOverride(Parser &p, YAML::Node &root, const std::string &text) {
+    const FileLoc where{"--set " + text};
+    const std::string shape = "write --set KEY=VALUE with a dotted key, e.g. --set field.symmetry=2 or "
+                              "--set 'camera.resolution=[512, 512]'";
+    const size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError(where, "an override needs KEY=VALUE", shape);
+    const std::string keyPath = text.substr(0, eq), valueText = text.substr(eq + 1);
+    std::vector<std::string> segments;
+    for (size_t start = 0;;) {
+        const size_t dot = keyPath.find('.', start);
+        segments.push_back(keyPath.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+        if (segments.back().empty()) throw InputError(where, "'" + keyPath + "' has an empty key", shape);
+        if (dot == std::string::npos) break;
+        start = dot + 1;
+    }
+    YAML::Node value;
+    try {
+        value = YAML::Load(valueText);
+    } catch (const YAML::ParserException &e) {
+        throw InputError(where, "the value is not valid YAML: " + e.msg,
+                         "quote lists and maps for the shell, e.g. --set 'camera.resolution=[512, 512]'");
+    }
+    if (!value || value.IsNull())
+        throw InputError(where, "the value of '" + keyPath + "' is empty", "write a value after '='");
+    p.addOrigin(value, where);
+    YAML::Node node = root;
+    std::string walked;
+    for (size_t i = 0; i < segments.size(); ++i) {
+        const std::string &seg = segments[i];
+        const bool last = i + 1 == segments.size();
+        if (node.IsSequence()) {
+            size_t used = 0;
+            unsigned long index = 0;
+            try {
+                index = std::stoul(seg, &used);
+            } catch (const std::exception &) {
+                used = 0;
+            }
+            if (used != seg.size() || index >= node.size())
+                throw InputError(where, "'" + walked + "' is a list of " + std::to_string(node.size()) +
+                                            " entries; '" + seg + "' is not a position in it",
+                                 "address entries by 0-based position, e.g. lights.0.intensity");
+            if (last) {
+                node[index] = value;
+                return;
+            }
+            node.reset(node[index]);
+        } else {
+            if (!node.IsMap())
+                throw InputError(where, "'" + walked + "' is " + Parser::kindOf(node) + ", not a map, so it has no key '" +
+                                            seg + "'",
+                                 "override '" + walked + "' as a whole instead");
+            const bool existed = bool(static_cast<const YAML::Node &>(node)[seg]);
+            if (last) {
+                node[seg] = value;
+            } else if (!existed) {
+                YAML::Node fresh(YAML::NodeType::Map);
+                p.addOrigin(fresh, where);
+                node[seg] = fresh;
+            }
+            if (!existed)
+                for (auto it = node.begin(); it != node.end(); ++it)
+                    if (it->first.IsScalar() && it->first.Scalar() == seg) p.addOrigin(it->first, where);
+            if (last) return;
+            YAML::Node child = node[seg];
+            node.reset(child);
+        }
+        walked += (walked.empty() ? "" : ".") + seg;
+    }
 }
 
 } // namespace
@@ -824,20 +1130,56 @@ styles::Style loadStylePreset(const std::string &path, std::string *description,
     return style;
 }
 
-SceneDesc parseScene(const std::string &text, const std::string &path) {
-    Parser p(path);
-    YAML::Node root;
-    try {
-        root = YAML::Load(text);
-    } catch (const YAML::ParserException &e) {
-        throw InputError(p.loc(e.mark), "YAML syntax error: " + e.msg,
-                         "check indentation, colons and brackets");
+namespace {
+
+bool isSvgOutput(const std::string &path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".svg";
+}
+
+/// `output: PATH` or `output: [PATH, ...]`.
+void parseOutputs(const Parser &p, const YAML::Node &value, std::vector<Located<std::string>> &outputs) {
+    outputs.clear();
+    auto one = [&](const YAML::Node &n) {
+        std::string out = p.text(n, "output");
+        if (!renderer::isSupportedImagePath(out) && !isSvgOutput(out))
+            p.fail(n, "output '" + out + "' has an unsupported extension",
+                   std::string("use one of ") + renderer::supportedImageExtensions() + " .svg");
+        for (const auto &o : outputs)
+            if (fs::path(o.value).lexically_normal() == fs::path(out).lexically_normal())
+                p.fail(n, "output '" + out + "' is listed twice (first at line " + std::to_string(o.loc.line) + ")",
+                       "list each file once");
+        outputs.push_back({out, p.loc(n)});
+    };
+    if (value.IsSequence()) {
+        if (value.size() == 0 || value.size() > 16)
+            p.fail(value, "output must list 1 to 16 paths, got " + std::to_string(value.size()),
+                   "e.g. output: [out/bunny.png, out/bunny.svg]");
+        for (size_t i = 0; i < value.size(); ++i) one(value[i]);
+    } else {
+        if (!value.IsScalar())
+            p.fail(value, "output must be a path or a list of paths, got " + Parser::kindOf(value),
+                   "e.g. output: out/bunny.png or output: [out/bunny.png, out/bunny.exr]");
+        one(value);
     }
+}
+
+} // namespace
+
+SceneDesc parseScene(const std::string &text, const std::string &path,
+                     const std::vector<std::string> &overrides) {
+    Parser p(path);
+    YAML::Node root = loadYaml(p, text);
+    if (!overrides.empty() && (!root || root.IsNull())) root = YAML::Node(YAML::NodeType::Map);
+    if (root.IsMap())
+        for (const std::string &o : overrides) applyOverride(p, root, o);
     SceneDesc desc;
     desc.path = path;
     if (!root || root.IsNull())
         throw InputError(FileLoc{path, 1, 1}, "the scene file is empty", "it needs at least a mesh: key");
-    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "style", "field"});
+    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "style", "field",
+                                                       "picture", "threads", "seed"});
     bool hasMesh = false;
     for (const auto &[key, value] : entries) {
         const std::string &k = key.Scalar();
@@ -850,28 +1192,54 @@ SceneDesc parseScene(const std::string &text, const std::string &path) {
             desc.lightsGiven = true;
             parseLights(p, value, desc.lights);
         } else if (k == "output") {
-            std::string out = p.text(value, "output");
-            if (!renderer::isSupportedImagePath(out))
-                p.fail(value, "output '" + out + "' has an unsupported extension",
-                       std::string("use one of ") + renderer::supportedImageExtensions());
-            desc.output = {out, p.loc(value)};
+            parseOutputs(p, value, desc.outputs);
+            desc.output = desc.outputs.front();
+        } else if (k == "threads") {
+            desc.threads = {p.integer(value, "threads", 0, 4096), p.loc(value)};
+        } else if (k == "seed") {
+            if (!value.IsScalar()) p.fail(value, "seed must be a whole number, got " + Parser::kindOf(value));
+            long long v = 0;
+            try {
+                v = value.as<long long>();
+            } catch (const YAML::Exception &) {
+                p.fail(value, "seed must be a whole number, got " + Parser::kindOf(value));
+            }
+            if (v < 0 || v > 4294967295LL)
+                p.fail(value, "seed must be in [0, 4294967295], got " + std::to_string(v),
+                       "any whole number in that range; the same seed gives the same drawing");
+            desc.seed = Located<long long>{v, p.loc(value)};
         } else if (k == "field") {
             parseField(p, value, desc.field);
         } else if (k == "shadows") {
             desc.shadows = {p.boolean(value, "shadows"), p.loc(value)};
         } else if (k == "style") {
             parseStyle(p, value, desc.style);
+        } else if (k == "picture") {
+            parsePicture(p, value, desc.picture);
         }
     }
     if (!hasMesh)
         throw InputError(FileLoc{path, 1, 1}, "the scene has no mesh",
                          "add e.g. mesh: bunny.off or mesh: {primitive: icosphere}");
-    if (desc.output.value.empty())
+    if (desc.outputs.empty()) {
         desc.output.value = fs::path(path).stem().string() + ".png";
+        desc.outputs.push_back(desc.output);
+    }
+    // Top-level seed: sets the style's seed unless the scene's own style block (or a
+    // --set style.seed) gave one; a preset's seed is overridden.
+    if (desc.seed) {
+        const auto at = desc.style.setAt.find("seed");
+        const bool explicitInScene = at != desc.style.setAt.end() &&
+                                     (desc.style.presetPath.empty() || at->second.path != desc.style.presetPath);
+        if (!explicitInScene) {
+            desc.style.style.seed = uint32_t(desc.seed->value);
+            desc.style.setAt["seed"] = desc.seed->loc;
+        }
+    }
     return desc;
 }
 
-SceneDesc parseSceneFile(const std::string &path) {
+SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw IoError(path, "scene file does not exist");
     if (fs::is_directory(path, ec)) throw IoError(path, "is a folder, not a scene file");
@@ -880,7 +1248,7 @@ SceneDesc parseSceneFile(const std::string &path) {
     std::ostringstream ss;
     ss << in.rdbuf();
     if (in.bad()) throw IoError(path, "error while reading the scene file");
-    return parseScene(ss.str(), path);
+    return parseScene(ss.str(), path, overrides);
 }
 
 namespace {
@@ -906,13 +1274,78 @@ field::Mesh makePrimitive(const MeshDesc &m) {
     return {};
 }
 
+/// Generalized winding number of the closed or open surface `mesh` around `p`
+/// (Jacobson et al. 2013): the sum of the signed solid angles of its triangles
+/// (Van Oosterom & Strackee) over 4 pi. About +-1 inside a closed mesh, 0 outside.
+double windingNumber(const field::Mesh &mesh, const Vec3 &p) {
+    double sum = 0;
+    for (const field::Face &f : mesh.faces()) {
+        const Vec3 a = mesh.position(f[0]) - p, b = mesh.position(f[1]) - p, c = mesh.position(f[2]) - p;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        const double num = a.dot(b.cross(c));
+        const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+        sum += 2 * std::atan2(num, den);
+    }
+    return sum / (4 * M_PI);
+}
+
+/// A manual camera must see some of the mesh and must not stand inside it. The
+/// visibility test is conservative (the bounding sphere against the view
+/// frustum), so it never rejects a camera that sees something.
+void checkManualCamera(const renderer::Camera &cam, const field::Mesh &mesh, const CameraDesc &c) {
+    Vec3 centre;
+    double radius;
+    renderer::boundingSphere(mesh, centre, radius);
+    const Vec3 d = centre - cam.position();
+    const double x = d.dot(cam.right()), y = d.dot(cam.up()), z = d.dot(cam.forward());
+    const double aspect = double(cam.width()) / cam.height();
+    bool outside;
+    if (cam.projection() == renderer::Projection::Perspective) {
+        const double ty = std::tan(0.5 * cam.fovYDeg() * M_PI / 180), tx = ty * aspect;
+        // Signed distances of the centre outside each side plane through the eye.
+        outside = z < -radius || (std::abs(x) - z * tx) / std::sqrt(1 + tx * tx) > radius ||
+                  (std::abs(y) - z * ty) / std::sqrt(1 + ty * ty) > radius;
+    } else {
+        const double hy = 0.5 * cam.viewHeight(), hx = hy * aspect;
+        outside = z < -radius || std::abs(x) > hx + radius || std::abs(y) > hy + radius;
+    }
+    const FileLoc &where = c.lookAt.loc.line ? c.lookAt.loc : c.loc;
+    if (outside)
+        throw InputError(where, "the camera sees none of the mesh (its bounding sphere, centre [" +
+                                    Parser::fmt(centre.x()) + ", " + Parser::fmt(centre.y()) + ", " +
+                                    Parser::fmt(centre.z()) + "], radius " + Parser::fmt(radius) +
+                                    ", lies outside the view)",
+                         "point look_at at the mesh, or use auto: true");
+    if (std::abs(windingNumber(mesh, cam.position())) > 0.5)
+        throw InputError(c.position.loc.line ? c.position.loc : c.loc,
+                         "camera.position is inside the mesh, which hides its outside",
+                         "move the camera outside the surface, or use auto: true");
+}
+
 } // namespace
 
-Scene buildScene(const SceneDesc &desc) {
+Eigen::Matrix3d TransformDesc::linear() const {
+    const Vec3 r = rotateDeg.value * (M_PI / 180.0);
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
+                               Eigen::AngleAxisd(r.x(), Vec3::UnitX()))
+                                  .toRotationMatrix();
+    return R * scale.value.asDiagonal();
+}
+
+field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transform) {
+    const Eigen::Matrix3d L = transform.linear();
+    std::vector<Vec3> positions(mesh.positions());
+    for (Vec3 &q : positions) q = L * q + transform.translate.value;
+    return field::Mesh::fromTriangles(std::move(positions), mesh.faces(), mesh.name());
+}
+
+Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions) {
     Scene scene;
-    scene.mesh = desc.mesh.file ? field::loadMesh(desc.mesh.file->value) : makePrimitive(desc.mesh);
+    scene.mesh = desc.mesh.file ? field::loadMesh(desc.mesh.file->value, meshOptions) : makePrimitive(desc.mesh);
     if (scene.mesh.nFaces() == 0)
         throw InputError(desc.mesh.loc, "the mesh has no faces");
+    // Before framing, so the automatic camera sees the transformed mesh.
+    if (desc.mesh.transform.given) scene.mesh = transformMesh(scene.mesh, desc.mesh.transform);
 
     const CameraDesc &c = desc.camera;
     int w = c.resolution.value[0], h = c.resolution.value[1];
@@ -931,6 +1364,7 @@ Scene buildScene(const SceneDesc &desc) {
         scene.camera = renderer::Camera::orthographic(c.position.value, c.lookAt.value, c.up.value,
                                                       c.height.value, w, h);
     }
+    if (!c.automatic) checkManualCamera(scene.camera, scene.mesh, c);
 
     if (desc.lightsGiven) {
         for (const LightDesc &l : desc.lights) scene.lights.push_back(l.light);

@@ -8,6 +8,7 @@
 #include "field/editing.h"
 #include "field/field_builder.h"
 #include "field/mesh.h"
+#include "field/mesh_io.h"
 #include "renderer/camera.h"
 #include "renderer/shading.h"
 #include "styles/style.h"
@@ -30,6 +31,21 @@ struct Located {
     FileLoc loc;
 };
 
+/// `mesh.transform`: applied to the mesh right after loading, before framing and
+/// before the field is built: p' = translate + Rz * Ry * Rx * (scale .* p), i.e.
+/// scale first, then rotate about the world X, then Y, then Z axis (degrees,
+/// counter-clockwise looking down the axis toward the origin), then translate.
+struct TransformDesc {
+    bool given = false;
+    Located<Vec3> translate{Vec3::Zero(), {}};
+    Located<Vec3> rotateDeg{Vec3::Zero(), {}};
+    Located<Vec3> scale{Vec3::Ones(), {}}; ///< each > 0 (a number means all three)
+    FileLoc loc;
+    /// The linear part Rz * Ry * Rx * diag(scale).
+    Eigen::Matrix3d linear() const;
+    Vec3 apply(const Vec3 &p) const { return linear() * p + translate.value; }
+};
+
 /// Where the mesh comes from: a file or a procedural primitive.
 struct MeshDesc {
     /// Path resolved against the scene file's folder (set when the mesh is a file).
@@ -38,6 +54,8 @@ struct MeshDesc {
     std::optional<Located<std::string>> primitive;
     /// Every parameter of the primitive, defaults filled in (see README.md).
     std::map<std::string, Located<double>> params;
+    /// Optional `transform:` (identity unless given).
+    TransformDesc transform;
     FileLoc loc;
 };
 
@@ -151,6 +169,17 @@ styles::Style loadStylePreset(const std::string &path, std::string *description 
 /// `description`), e.g. "ambient", "hatch.taper", "contour.width_px".
 std::vector<std::string> styleKeys();
 
+/// What `rosyhatch render` draws: the pen-and-ink hatching (the default) or a
+/// picture of the field itself (streamlines, singularity dots, separatrices) as in
+/// the paper's Figures 2-5 (renderer/field_picture.h).
+struct PictureDesc {
+    enum class Kind { Hatching, Field };
+    Located<Kind> kind{Kind::Hatching, {}};
+    /// Field pictures: trace and draw each singularity's separatrices.
+    Located<bool> separatrices{false, {}};
+    FileLoc loc;
+};
+
 struct SceneDesc {
     /// The scene file as given (used in every message).
     std::string path;
@@ -162,22 +191,40 @@ struct SceneDesc {
     Located<bool> shadows{true, {}};
     /// The `style:` block: defaults, then the preset, then inline overrides.
     StyleDesc style;
-    /// Output image path (relative to the working directory, as given); default:
-    /// the scene file's stem + ".png".
+    /// The first output path (relative to the working directory, as given); default:
+    /// the scene file's stem + ".png". Same as outputs.front().
     Located<std::string> output;
+    /// Every output path (`output:` a path or a list of paths), all from one render;
+    /// the format follows the extension (.png .exr .tif .tiff .jpg .jpeg .svg).
+    std::vector<Located<std::string>> outputs;
+    /// Top-level `threads` (0 = all cores); the CLI's --threads wins when given.
+    Located<int> threads{0, {}};
+    /// Top-level `seed`, if given. It sets style.style.seed unless the scene's
+    /// `style:` block (or a --set style.seed) sets `seed` itself (a preset's seed
+    /// does not count: the top-level seed overrides it).
+    std::optional<Located<long long>> seed;
     /// The `field:` block (defaults when absent).
     FieldDesc field;
+    /// The `picture:` block: what `rosyhatch render` draws.
+    PictureDesc picture;
 };
 
 /// Reads and validates a scene file.
+/// \param overrides  command-line overrides `dotted.key=VALUE` (`--set`), applied in
+///   order to the YAML tree before validation; VALUE is YAML (`2`, `[512, 512]`,
+///   `{preset: sketch}`), missing maps are created, list entries are addressed by
+///   0-based position (`lights.0.intensity=0.5`). Errors in an overridden value are
+///   located at the override: `--set field.symmetry=0: error: ...`.
 /// \throws IoError if the file cannot be read.
 /// \throws InputError `FILE:LINE:COL: error: ...` for YAML syntax errors, unknown or
-///   duplicate keys, wrong types, out-of-range values, a missing mesh file.
-SceneDesc parseSceneFile(const std::string &path);
+///   duplicate keys, wrong types, out-of-range values, a missing mesh file, a
+///   malformed override.
+SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides = {});
 
 /// Same as parseSceneFile() for text already in memory; `path` names it in messages
 /// and relative mesh paths are resolved against its folder.
-SceneDesc parseScene(const std::string &text, const std::string &path);
+SceneDesc parseScene(const std::string &text, const std::string &path,
+                     const std::vector<std::string> &overrides = {});
 
 /// The objects a render needs.
 struct Scene {
@@ -190,11 +237,16 @@ struct Scene {
     std::string output;
 };
 
-/// Loads the mesh (or builds the primitive), makes the camera and lights.
+/// Applies `transform` to every vertex of `mesh` (connectivity unchanged).
+field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transform);
+
+/// Loads the mesh (or builds the primitive), applies `mesh.transform`, makes the
+/// camera (automatic framing sees the transformed mesh) and lights.
 /// Without a `lights` key, one directional key light comes from the viewer's upper left.
 /// \throws IoError / InputError from mesh loading; InputError at the camera's location
-///   if the manual camera is degenerate for this mesh.
-Scene buildScene(const SceneDesc &desc);
+///   if the manual camera is degenerate for this mesh, sees none of it, or stands
+///   inside a closed mesh. `meshOptions` carries the face limit (--max-faces).
+Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions = {});
 
 /// Names the primitives a scene may use, for messages and documentation.
 std::vector<std::string> primitiveNames();

@@ -15,12 +15,13 @@ using Rgb = std::array<double, 3>;
 /// How hatches turn tone into ink. Densities are ink coverage in [0, 1]
 /// (0 = white paper, 1 = solid ink); lengths are pixels of the render resolution.
 struct HatchStyle {
-    double strokeWidthPx = 1.4;     ///< nominal hatch line width
-    double minSpacingPx = 2.5;      ///< densest spacing between parallel hatches (two families then cover 80%)
+    double strokeWidthPx = 1.8;     ///< mean hatch line width (tapered ends included)
+    double minSpacingPx = 3.2;      ///< densest spacing between parallel hatches (two families then cover 81%);
+                                    ///< closer than ~3 px, lines near the Nyquist rate lose their direction
     double maxSpacingPx = 24.0;     ///< sparsest spacing (lightest hatched tone)
     double highlightDensity = 0.1;  ///< below this target density: no hatching (paper shows)
     double crossDensity = 0.45;     ///< above this: the second family (cross-hatching) is added
-    double toneGamma = 1.6;         ///< target density = (1 − tone)^gamma; > 1 opens up the lit side
+    double toneGamma = 1.6;         ///< target density = min((1 − tone)^gamma, maxHatchDensity); > 1 opens up the lit side
     double taper = 0.12;            ///< fraction of a stroke's length over which its ends thin out
     double pressureVariation = 0.2; ///< relative width variation along a stroke (smooth noise)
     double jitterPx = 0.0;          ///< positional wobble amplitude
@@ -38,6 +39,21 @@ struct ContourStyle {
     bool hidden = false;           ///< also emit hidden contours (HiddenContour strokes)
 };
 
+/// The page of vector output (SVG): the picture is fitted inside the margin and
+/// centred. Sizes in millimetres.
+struct PageStyle {
+    enum class Orientation : uint8_t {
+        Auto,      ///< of the size as written and its turned copy, the one that shows the picture larger (ties: as written)
+        Portrait,  ///< the shorter side across
+        Landscape, ///< the longer side across
+    };
+    double widthMm = 210.0;  ///< A4 as written (portrait)
+    double heightMm = 297.0;
+    double marginMm = 10.0;  ///< on every side
+    Orientation orientation = Orientation::Auto;
+    double penWidthMm = 0.0; ///< > 0: every path this wide (one plotter pen); 0: each stroke's own width scaled to the page
+};
+
 struct Style {
     /// Colour of the background and of fully lit surfaces (linear RGB).
     Rgb paper = {1.0, 1.0, 1.0};
@@ -49,6 +65,7 @@ struct Style {
     double ambient = 0.15;
     HatchStyle hatch;
     ContourStyle contour;
+    PageStyle page;          ///< vector output page (SVG)
     double paperGrain = 0.0; ///< amplitude of paper texture in [0, 1] (0 = flat paper)
     uint32_t seed = 1;       ///< base seed of every random choice (with stable ids)
 };

@@ -15,7 +15,8 @@ jobs=${ROSY_JOBS:-2}
 
 packages=(cmake g++ ninja-build pkg-config libembree-dev libopenimageio-dev openimageio-tools
           libopenexr-dev libeigen3-dev libopenmesh-dev libyaml-cpp-dev libtbb-dev libcli11-dev
-          libgtest-dev libbenchmark-dev libcgal-demo libsuitesparse-dev libopenblas-dev)
+          libgtest-dev libbenchmark-dev libcgal-demo libsuitesparse-dev libopenblas-dev
+          librsvg2-bin clang-14 libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -51,7 +52,9 @@ case "$mode" in
     echo "setup: rendered $here/out/bunny.png"
     ;;
   test)
-    cd "$build" && ctest --output-on-failure -j "$jobs"
+    (cd "$build" && ctest --output-on-failure -j "$jobs")
+    # ASan + UBSan test suite, fuzz replay and 60 s per harness (ROSY_CI_EXTRA=0 skips it).
+    [ "${ROSY_CI_EXTRA:-0}" = 0 ] || tools/ci-extra.sh
     ;;
   *)
     echo "usage: tools/setup.sh render|test" >&2

@@ -110,7 +110,7 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
         for (int x = 0; x < 96; x += 3) {
             if (!s.screen.isValid(x, y)) continue;
             const size_t i = size_t(s.gbuffer.index(x, y));
-            const Vec3 &p = s.gbuffer.position[i];
+            const Vec3 p = s.gbuffer.position(i);
             const float a0 = s.screen.angle0[i], a1 = s.screen.angle1[i];
             ASSERT_GE(a0, 0.f);
             ASSERT_LT(a0, float(M_PI));
@@ -129,7 +129,7 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
 TEST(Hatching, PlaneAt45DegreesHasStyleSpacing) {
     Scene s = tiltedPlane(192);
     styles::HatchStyle st;
-    const float density = 0.2f; // one family, d_sep = w / ρ = 6 px
+    const float density = 0.2f; // one family, d_sep = w / ρ
     const double dSep = st.strokeWidthPx / density;
     HatchReport report;
     StrokeList list = traceHatches(s.screen, s.uniformDensity(density), s.gbuffer, st, 7, &report);
@@ -227,7 +227,10 @@ TEST(Hatching, InkNeverDecreasesAlongAToneRamp) {
     // Spacing not clamped in the darkest bands, so every band asks for more ink than
     // the one above; no taper, which thins the ends of strokes at the image border
     // independently of tone.
+    // The pen is kept well below the closest spacing (1.4 px lines at 2 px), so the
+    // darkest band is still open hatching the tracer can fill, not lines touching.
     st.minSpacingPx = 2.0;
+    st.strokeWidthPx = 1.4;
     st.taper = 0.0;
     StrokeList list = traceHatches(s.screen, density, s.gbuffer, st, 11, nullptr);
     // Ink per covered pixel of each band.
@@ -259,7 +262,7 @@ TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
     s.render();
     styles::HatchStyle st;
     const float density = 0.1f;
-    const double dSep = st.strokeWidthPx / density; // 12 px, one family
+    const double dSep = st.strokeWidthPx / density; // one family
     HatchReport report;
     StrokeList list = traceHatches(s.screen, s.uniformDensity(density), s.gbuffer, st, 5, &report);
     ASSERT_GT(report.strokes, 5);

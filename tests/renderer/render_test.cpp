@@ -26,7 +26,9 @@ Rendered renderSphere(int size, const FramingOptions &opt) {
     Camera cam = frameMesh(mesh, size, size, opt);
     RayScene scene(mesh);
     GBuffer g = renderGBuffer(scene, mesh, cam);
-    return {std::move(mesh), cam, std::move(g)};
+    Rendered r{std::move(mesh), cam, std::move(g)};
+    r.gbuffer.mesh = &r.mesh; // the G-buffer reads the mesh it was rendered from
+    return r;
 }
 
 double coveredFraction(const GBuffer &g) {
@@ -98,10 +100,11 @@ TEST(GBuffer, StoresSurfaceGeometry) {
         ++checked;
         // On (a fine polyhedron inscribed in) the unit sphere the smooth normal is the
         // radial direction and the point lies at radius ~1, facing the camera.
-        EXPECT_NEAR(g.position[i].norm(), 1.0, 0.01);
-        EXPECT_GT(g.normal[i].dot(g.position[i].normalized()), 0.995);
-        EXPECT_GT(g.normal[i].dot(r.camera.toViewer(g.position[i])), -0.05);
-        EXPECT_NEAR(g.depth[i], (g.position[i] - r.camera.position()).dot(r.camera.forward()), 1e-9);
+        EXPECT_NEAR(g.position(i).norm(), 1.0, 0.01);
+        EXPECT_GT(g.normal(i).dot(g.position(i).normalized()), 0.995);
+        EXPECT_GT(g.normal(i).dot(r.camera.toViewer(g.position(i))), -0.05);
+        // Stored in single precision: within a few float ulps of the exact depth.
+        EXPECT_NEAR(g.depth[i], (g.position(i) - r.camera.position()).dot(r.camera.forward()), 1e-6 * std::abs(g.depth[i]));
     }
     EXPECT_GT(checked, 100);
 }
@@ -193,7 +196,7 @@ TEST(Shading, SphereCastsShadowOnFloor) {
     int il = g.index(int(lit.x()), int(lit.y())), is = g.index(int(shadowed.x()), int(shadowed.y()));
     ASSERT_GE(g.faceId[size_t(il)], 0);
     ASSERT_GE(g.faceId[size_t(is)], 0);
-    ASSERT_NEAR(g.position[size_t(is)].z(), -1.5, 1e-6) << "the shadow probe must see the floor";
+    ASSERT_NEAR(g.position(size_t(is)).z(), -1.5, 1e-6) << "the shadow probe must see the floor";
     ShadingOptions so;
     so.ambient = 0.2;
     so.shadows = true;

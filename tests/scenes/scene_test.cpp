@@ -435,8 +435,8 @@ TEST(ParseScene, BadPresetFileErrorsPointIntoThePresetFile) {
 
 TEST(StyleKeys, CoverEveryDocumentedGroup) {
     std::vector<std::string> keys = styleKeys();
-    // Style has 5 top-level values, HatchStyle 12 fields, ContourStyle 5 (style.h).
-    EXPECT_EQ(keys.size(), 5u + 12u + 5u);
+    // Style has 5 top-level values, HatchStyle 12 fields, ContourStyle 5, PageStyle 4 (style.h).
+    EXPECT_EQ(keys.size(), 5u + 12u + 5u + 4u);
     std::string readme;
     {
         std::ifstream in(std::string(ROSY_SOURCE_DIR) + "/scenes/README.md");
@@ -461,4 +461,278 @@ TEST(ExampleScenes, EveryShippedSceneParsesAndBuilds) {
         EXPECT_GT(scene.mesh.nFaces(), 0);
         EXPECT_FALSE(scene.output.empty());
     }
+}
+
+// --- --set overrides ----------------------------------------------------------
+
+namespace {
+
+/// The message of the InputError parseScene throws for `text` with `overrides`.
+std::string overrideErrorOf(const std::string &text, const std::vector<std::string> &overrides) {
+    try {
+        parseScene(text, scenePath(), overrides);
+    } catch (const rosy::InputError &e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text;
+    return {};
+}
+
+const char *kPlainScene = "mesh: {primitive: icosphere}\n"
+                          "camera: {resolution: [64, 48]}\n"
+                          "lights: [{type: directional, direction: [1, 1, 1]}, {type: point, position: [0, 3, 0]}]\n";
+
+} // namespace
+
+TEST(SceneOverrides, ReplaceValuesAndAreLocatedAtTheOverride) {
+    SceneDesc d = parseScene(kPlainScene, scenePath(),
+                             {"field.symmetry=2", "camera.resolution=[512, 256]", "lights.1.intensity=0.25"});
+    EXPECT_EQ(d.field.spec.nSym, 2);
+    EXPECT_TRUE(d.field.given); // the override created the field block
+    EXPECT_EQ(d.field.symmetryLoc.path, "--set field.symmetry=2");
+    EXPECT_EQ(d.field.symmetryLoc.line, 0);
+    EXPECT_EQ(d.camera.resolution.value[0], 512);
+    EXPECT_EQ(d.camera.resolution.value[1], 256);
+    EXPECT_EQ(d.camera.resolution.loc.path, "--set camera.resolution=[512, 256]");
+    ASSERT_EQ(d.lights.size(), 2u);
+    EXPECT_EQ(d.lights[1].light.intensity, 0.25);
+    EXPECT_EQ(d.lights[0].light.intensity, 1.0); // the other light keeps its default
+}
+
+TEST(SceneOverrides, ApplyInOrderSoTheLastWins) {
+    SceneDesc d = parseScene(kPlainScene, scenePath(), {"field.symmetry=3", "field.symmetry=6"});
+    EXPECT_EQ(d.field.spec.nSym, 6);
+}
+
+TEST(SceneOverrides, MapValuesAndPresetsWork) {
+    SceneDesc d = parseScene(kPlainScene, scenePath(), {"style={preset: engraving}", "mesh.subdivisions=1"});
+    ASSERT_TRUE(d.style.preset.has_value());
+    EXPECT_EQ(d.style.preset->value, "engraving");
+    EXPECT_EQ(d.mesh.params.at("subdivisions").value, 1.0);
+    EXPECT_EQ(d.mesh.params.at("subdivisions").loc.path, "--set mesh.subdivisions=1");
+}
+
+TEST(SceneOverrides, ValidationErrorsNameTheOverride) {
+    // Each class of error, raised by a value the override brought.
+    const std::string range = overrideErrorOf(kPlainScene, {"field.symmetry=0"});
+    EXPECT_TRUE(startsWith(range, "--set field.symmetry=0: error: field.symmetry must be in [1, 12]")) << range;
+    const std::string res = overrideErrorOf(kPlainScene, {"camera.resolution=[0, 64]"});
+    EXPECT_TRUE(startsWith(res, "--set camera.resolution=[0, 64]: error: camera.resolution width must be in [1, 16384]"))
+        << res;
+    const std::string type = overrideErrorOf(kPlainScene, {"camera.fov=wide"});
+    EXPECT_TRUE(startsWith(type, "--set camera.fov=wide: error: camera.fov (degrees) must be a number")) << type;
+    const std::string key = overrideErrorOf(kPlainScene, {"feild.symmetry=2"});
+    EXPECT_TRUE(startsWith(key, "--set feild.symmetry=2: error: unknown key 'feild' in the scene")) << key;
+    EXPECT_TRUE(contains(key, "did you mean 'field'?")) << key;
+    const std::string nested = overrideErrorOf(kPlainScene, {"camera.fvo=30"});
+    EXPECT_TRUE(startsWith(nested, "--set camera.fvo=30: error: unknown key 'fvo' in camera")) << nested;
+    const std::string prob = overrideErrorOf(kPlainScene, {"style.hatch.cross_density=1.5"});
+    EXPECT_TRUE(startsWith(prob, "--set style.hatch.cross_density=1.5: error: style.hatch.cross_density must be in [0, 1]"))
+        << prob;
+}
+
+TEST(SceneOverrides, MalformedOverridesAreInputErrors) {
+    const std::string noEq = overrideErrorOf(kPlainScene, {"field.symmetry"});
+    EXPECT_TRUE(startsWith(noEq, "--set field.symmetry: error: an override needs KEY=VALUE")) << noEq;
+    const std::string empty = overrideErrorOf(kPlainScene, {"field..symmetry=2"});
+    EXPECT_TRUE(startsWith(empty, "--set field..symmetry=2: error: 'field..symmetry' has an empty key")) << empty;
+    const std::string yaml = overrideErrorOf(kPlainScene, {"camera.resolution=[1, "});
+    EXPECT_TRUE(startsWith(yaml, "--set camera.resolution=[1, : error: the value is not valid YAML")) << yaml;
+    const std::string none = overrideErrorOf(kPlainScene, {"field.symmetry="});
+    EXPECT_TRUE(startsWith(none, "--set field.symmetry=: error: the value of 'field.symmetry' is empty")) << none;
+    const std::string scalar = overrideErrorOf("mesh: thing.off\n", {"mesh.primitive=torus"});
+    EXPECT_TRUE(startsWith(scalar, "--set mesh.primitive=torus: error: 'mesh' is 'thing.off', not a map")) << scalar;
+    const std::string index = overrideErrorOf(kPlainScene, {"lights.2.intensity=1"});
+    EXPECT_TRUE(startsWith(index, "--set lights.2.intensity=1: error: 'lights' is a list of 2 entries")) << index;
+}
+
+TEST(SceneOverrides, FileErrorsKeepTheirFileLocation) {
+    // An override elsewhere does not move the location of an error in the file.
+    const std::string msg = overrideErrorOf("mesh: thing.off\ncamera: {fov: 500}\n", {"field.symmetry=2"});
+    EXPECT_TRUE(startsWith(msg, scenePath() + ":2:15: error: camera.fov")) << msg;
+}
+
+// --- picture, field weights and global smoothing -----------------------------
+
+TEST(ParseScene, PictureBlock) {
+    SceneDesc d = parseScene("mesh: thing.off\npicture: {kind: field, separatrices: true}\n", scenePath());
+    EXPECT_EQ(d.picture.kind.value, PictureDesc::Kind::Field);
+    EXPECT_TRUE(d.picture.separatrices.value);
+    SceneDesc plain = parseScene("mesh: thing.off\n", scenePath());
+    EXPECT_EQ(plain.picture.kind.value, PictureDesc::Kind::Hatching);
+    const std::string kind = errorOf("mesh: thing.off\npicture: {kind: feild}\n");
+    EXPECT_TRUE(startsWith(kind, scenePath() + ":2:17: error: unknown picture kind 'feild'")) << kind;
+    EXPECT_TRUE(contains(kind, "did you mean 'field'?")) << kind;
+    const std::string seps = errorOf("mesh: thing.off\npicture: {separatrices: true}\n");
+    EXPECT_TRUE(startsWith(seps, scenePath() + ":2:25: error: picture.separatrices needs picture.kind: field")) << seps;
+}
+
+TEST(ParseSceneField, WeightsAndGlobalSmoothing) {
+    SceneDesc d = parseScene("mesh: thing.off\nfield:\n  weights: cotan\n  global_smoothing: {iterations: 30, "
+                             "strength: 0.25}\n",
+                             scenePath());
+    EXPECT_EQ(d.field.spec.weights, rosy::field::LaplaceWeights::Cotan);
+    EXPECT_EQ(d.field.spec.globalSmoothingIterations, 30);
+    EXPECT_EQ(d.field.spec.globalSmoothingStrength, 0.25);
+    const std::string w = errorOf("mesh: thing.off\nfield: {weights: cotangent}\n");
+    EXPECT_TRUE(startsWith(w, scenePath() + ":2:18: error: unknown weights 'cotangent'")) << w;
+    const std::string s = errorOf("mesh: thing.off\nfield: {global_smoothing: {strength: 2}}\n");
+    EXPECT_TRUE(startsWith(s, scenePath() + ":2:38: error: field.global_smoothing.strength must be in")) << s;
+}
+
+// --- mesh.transform, output lists, threads, seed ----------------------------------
+
+namespace {
+
+/// Axis-aligned bounding box of the built scene's mesh.
+std::pair<Vec3, Vec3> builtBounds(const std::string &text) {
+    Scene scene = buildScene(parseScene(text, scenePath()));
+    Vec3 lo, hi;
+    scene.mesh.bounds(lo, hi);
+    return {lo, hi};
+}
+
+void expectNear(const Vec3 &a, const Vec3 &b, double tol, const char *what) {
+    EXPECT_LT((a - b).norm(), tol) << what << ": [" << a.transpose() << "] vs [" << b.transpose() << "]";
+}
+
+} // namespace
+
+TEST(MeshTransform, ParsesEveryFormAndDefaultsToIdentity) {
+    SceneDesc plain = parseScene("mesh: {primitive: icosphere}\n", scenePath());
+    EXPECT_FALSE(plain.mesh.transform.given);
+    EXPECT_TRUE(plain.mesh.transform.linear().isIdentity());
+
+    SceneDesc d = parseScene("mesh: {file: thing.off, transform: {translate: [1, 2, 3], scale: 2}}\n", scenePath());
+    ASSERT_TRUE(d.mesh.file);
+    EXPECT_EQ(fs::path(d.mesh.file->value).filename(), "thing.off");
+    EXPECT_TRUE(d.mesh.transform.given);
+    // p' = 2 p + [1, 2, 3]
+    expectNear(d.mesh.transform.apply(Vec3(1, 0, -1)), Vec3(3, 2, 1), 1e-12, "uniform scale + translate");
+
+    SceneDesc e = parseScene("mesh:\n"
+                             "  primitive: grid\n"
+                             "  transform: {scale: [1, 2, 3], rotate: [0, 0, 90]}\n",
+                             scenePath());
+    // scale first: (1, 1, 1) -> (1, 2, 3); then 90 deg about Z (counter-clockwise): (x, y) -> (-y, x).
+    expectNear(e.mesh.transform.apply(Vec3(1, 1, 1)), Vec3(-2, 1, 3), 1e-12, "scale then rotate");
+    EXPECT_EQ(e.mesh.transform.scale.loc.line, 3);
+}
+
+// A grid ([-1, 1]^2 in z = 0) scaled by [1, 2, 1] spans x in [-1, 1], y in [-2, 2].
+// Rotating X by 90 deg maps (x, y, 0) to (x, 0, y); then Y by 90 deg maps (x, 0, z) to
+// (z, 0, -x): x in [-2, 2], y = 0, z in [-1, 1]; translating by [1, 2, 3] gives the box
+// below. The opposite order (Y then X) would give x = 0, y in [-1, 1], z in [-2, 2].
+TEST(MeshTransform, RotatedGridBoundingBoxMatchesTheHandComputedOne) {
+    const auto [lo, hi] = builtBounds(
+        "mesh: {primitive: grid, n: 2, transform: {scale: [1, 2, 1], rotate: [90, 90, 0], translate: [1, 2, 3]}}\n");
+    expectNear(lo, Vec3(-1, 2, 2), 1e-9, "lo");
+    expectNear(hi, Vec3(3, 2, 4), 1e-9, "hi");
+}
+
+// The cube [-1, 1]^3 turned 45 deg about Z: its corners reach sqrt(2) along x and y.
+TEST(MeshTransform, CubeTurnedAboutZReachesTheDiagonal) {
+    const auto [lo, hi] = builtBounds("mesh: {primitive: cube, n: 2, transform: {rotate: [0, 0, 45]}}\n");
+    const double r = std::sqrt(2.0);
+    expectNear(lo, Vec3(-r, -r, -1), 1e-9, "lo");
+    expectNear(hi, Vec3(r, r, 1), 1e-9, "hi");
+}
+
+// Automatic framing sees the transformed mesh: a uniformly scaled and translated
+// sphere lands on exactly the same pixels as the original (the camera moves with it).
+TEST(MeshTransform, AutoFramingFollowsAScaledTranslatedMesh) {
+    const std::string base = "mesh: {primitive: icosphere, subdivisions: 2";
+    const std::string cam = "camera: {resolution: [200, 120], direction: [1, 0.5, 2]}\n";
+    Scene a = buildScene(parseScene(base + "}\n" + cam, scenePath()));
+    Scene b = buildScene(
+        parseScene(base + ", transform: {scale: 2.5, translate: [30, -10, 20]}}\n" + cam, scenePath()));
+    ASSERT_EQ(a.mesh.nVertices(), b.mesh.nVertices());
+    expectNear(b.mesh.position(7), 2.5 * a.mesh.position(7) + Vec3(30, -10, 20), 1e-9, "vertex 7");
+    double worst = 0;
+    for (int v = 0; v < a.mesh.nVertices(); ++v)
+        worst = std::max(worst, (a.camera.project(a.mesh.position(v)) - b.camera.project(b.mesh.position(v))).norm());
+    EXPECT_LT(worst, 1e-6) << "pixels";
+    // And a camera that ignored the transform would not see the moved sphere centred.
+    const Eigen::Vector2d centre = a.camera.project(Vec3(30, -10, 20));
+    EXPECT_GT((centre - Eigen::Vector2d(100, 60)).norm(), 50.0);
+}
+
+TEST(MeshTransform, BadValuesNameTheirPlace) {
+    const std::string head = "mesh:\n  primitive: grid\n  transform:\n";
+    std::string e = errorOf(head + "    scale: 0\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":4:12: error: mesh.transform.scale must be positive, got 0")) << e;
+    e = errorOf(head + "    scale: [1, -2, 1]\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":4:16: error: mesh.transform.scale[1] must be positive, got -2")) << e;
+    e = errorOf(head + "    rotate: [0, 90]\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":4:13: error: mesh.transform.rotate")) << e;
+    e = errorOf(head + "    scael: 2\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":4:5: error: unknown key 'scael'")) << e;
+    EXPECT_TRUE(contains(e, "did you mean 'scale'?")) << e;
+    e = errorOf("mesh: {file: thing.off, primitive: grid}\n");
+    EXPECT_TRUE(contains(e, "both 'file' and 'primitive'")) << e;
+}
+
+TEST(SceneOutputs, OnePathOrAList) {
+    SceneDesc one = parseScene("mesh: thing.off\noutput: a.tif\n", scenePath());
+    ASSERT_EQ(one.outputs.size(), 1u);
+    EXPECT_EQ(one.output.value, "a.tif");
+    SceneDesc many = parseScene("mesh: thing.off\noutput: [a.png, b.svg, c.exr, d.jpg]\n", scenePath());
+    ASSERT_EQ(many.outputs.size(), 4u);
+    EXPECT_EQ(many.outputs[1].value, "b.svg");
+    EXPECT_EQ(many.outputs[3].loc.line, 2);
+    EXPECT_EQ(many.outputs[3].loc.col, 31); // "output: [a.png, b.svg, c.exr, " is 30 characters
+    EXPECT_EQ(many.output.value, "a.png");
+    SceneDesc none = parseScene("mesh: thing.off\n", scenePath());
+    ASSERT_EQ(none.outputs.size(), 1u);
+    EXPECT_EQ(none.outputs[0].value, "s.png");
+}
+
+TEST(SceneOutputs, BadListsNameTheEntry) {
+    std::string e = errorOf("mesh: thing.off\noutput: [a.png, a.png]\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:17: error: output 'a.png' is listed twice")) << e;
+    e = errorOf("mesh: thing.off\noutput: [a.png, b.gif]\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:17: error: output 'b.gif' has an unsupported extension")) << e;
+    e = errorOf("mesh: thing.off\noutput: []\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:9: error: output must list 1 to 16 paths")) << e;
+    e = errorOf("mesh: thing.off\noutput: {a: b.png}\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:9: error: output must be a path or a list")) << e;
+}
+
+TEST(SceneThreadsAndSeed, ParseWithRanges) {
+    SceneDesc d = parseScene("mesh: thing.off\nthreads: 3\nseed: 4294967295\n", scenePath());
+    EXPECT_EQ(d.threads.value, 3);
+    ASSERT_TRUE(d.seed);
+    EXPECT_EQ(d.style.style.seed, 4294967295u);
+    SceneDesc none = parseScene("mesh: thing.off\n", scenePath());
+    EXPECT_EQ(none.threads.value, 0);
+    EXPECT_FALSE(none.seed);
+    EXPECT_EQ(none.style.style.seed, 1u);
+
+    std::string e = errorOf("mesh: thing.off\nthreads: -1\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:10: error: threads must be in [0, 4096], got -1")) << e;
+    e = errorOf("mesh: thing.off\nthreads: 5000\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:10: error: threads must be in [0, 4096]")) << e;
+    e = errorOf("mesh: thing.off\nseed: -3\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:7: error: seed must be in [0, 4294967295], got -3")) << e;
+    e = errorOf("mesh: thing.off\nseed: 4294967296\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:7: error: seed must be in [0, 4294967295]")) << e;
+    e = errorOf("mesh: thing.off\nseed: 1.5\n");
+    EXPECT_TRUE(startsWith(e, scenePath() + ":2:7: error: seed must be a whole number")) << e;
+}
+
+// Precedence: the scene's own style.seed > top-level seed > a preset's seed > default 1.
+TEST(SceneThreadsAndSeed, TopLevelSeedSetsTheStyleSeedUnlessTheStyleGivesOne) {
+    writePreset("seeded.yaml", "description: a preset with its own seed\nseed: 9\n");
+    auto seedOf = [](const std::string &text, const std::vector<std::string> &overrides = {}) {
+        return parseScene(text, scenePath(), overrides).style.style.seed;
+    };
+    EXPECT_EQ(seedOf("mesh: thing.off\nseed: 42\n"), 42u);
+    EXPECT_EQ(seedOf("mesh: thing.off\nseed: 42\nstyle: {seed: 5}\n"), 5u);
+    EXPECT_EQ(seedOf("mesh: thing.off\nstyle: {seed: 5}\nseed: 42\n"), 5u); // order does not matter
+    EXPECT_EQ(seedOf("mesh: thing.off\nstyle: {preset: seeded.yaml}\n"), 9u);
+    EXPECT_EQ(seedOf("mesh: thing.off\nseed: 42\nstyle: {preset: seeded.yaml}\n"), 42u);
+    EXPECT_EQ(seedOf("mesh: thing.off\nseed: 42\n", {"seed=7"}), 7u);
+    EXPECT_EQ(seedOf("mesh: thing.off\nseed: 42\n", {"style.seed=8"}), 8u);
+    SceneDesc d = parseScene("mesh: thing.off\n\nseed: 42\n", scenePath());
+    EXPECT_EQ(d.style.setAt.at("seed").line, 3);
 }

@@ -1,0 +1,172 @@
+// The plotter pass (renderer/plotter.h) and the SVG writer.
+//
+//   build/bench/plotter_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//
+// Targets (issue 7): merge + sort + simplify of 100,000 strokes <= 0.5 s; on the
+// default scene (scenes/bunny.yaml) pen-up travel <= 0.5x the unsorted order.
+// Counters: penup_ratio (pen-up after / before), pendown_change (relative
+// pen-down change), paths (strokes after merging).
+
+#include "field/field_builder.h"
+#include "field/singularities.h"
+#include "renderer/embree_scene.h"
+#include "renderer/illustration.h"
+#include "renderer/plotter.h"
+#include "renderer/svg.h"
+#include "scenes/scene.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <exception>
+#include <memory>
+#include <random>
+
+using namespace rosy;
+using namespace rosy::renderer;
+
+namespace {
+
+/// n straight strokes 2–10 px long, uniformly placed and turned in a size² px square.
+std::vector<Stroke> randomShortStrokes(int n, double size, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(0, size), ang(0, 6.283185307179586), len(2, 10);
+    std::vector<Stroke> out;
+    out.reserve(size_t(n));
+    for (int i = 0; i < n; ++i) {
+        Stroke s;
+        const Eigen::Vector2d a(pos(rng), pos(rng));
+        const double t = ang(rng), l = len(rng);
+        s.points = {a, a + l * Eigen::Vector2d(std::cos(t), std::sin(t))};
+        s.widths = {1.4f, 1.4f};
+        s.family = 0;
+        s.id = uint32_t(i);
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+/// Polylines like traced hatches: 20 points each, gently curving.
+std::vector<Stroke> randomPolylines(int n, double size, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(0, size), ang(0, 6.283185307179586), turn(-0.08, 0.08);
+    std::vector<Stroke> out;
+    out.reserve(size_t(n));
+    for (int i = 0; i < n; ++i) {
+        Stroke s;
+        Eigen::Vector2d p(pos(rng), pos(rng));
+        double t = ang(rng);
+        for (int k = 0; k < 20; ++k) {
+            s.points.push_back(p);
+            s.widths.push_back(1.4f);
+            t += turn(rng);
+            p += Eigen::Vector2d(std::cos(t), std::sin(t));
+        }
+        s.family = 0;
+        s.id = uint32_t(i);
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+void runPass(benchmark::State &state, const std::vector<Stroke> &in) {
+    PlotterReport report;
+    for (auto _ : state) {
+        report = PlotterReport{};
+        auto out = optimizeForPlotter(in, PlotterOptions{}, &report);
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.counters["penup_ratio"] = report.penUpPx / report.penUpUnsortedPx;
+    state.counters["pendown_change"] = report.penDownPx / report.penDownInputPx - 1;
+    state.counters["paths"] = report.paths;
+    state.counters["strokes"] = double(in.size());
+}
+
+/// The issue's figure: 100,000 short strokes, the whole pass (dedupe, overlaps, merge, simplify, sort).
+void BM_PlotterPass_100kShortStrokes(benchmark::State &state) {
+    static const auto in = randomShortStrokes(100000, 4000, 3);
+    runPass(state, in);
+}
+BENCHMARK(BM_PlotterPass_100kShortStrokes)->Unit(benchmark::kMillisecond);
+
+/// 100,000 20-point polylines (2M points): simplification and overlap tests see real point counts.
+void BM_PlotterPass_100kPolylines(benchmark::State &state) {
+    static const auto in = randomPolylines(100000, 4000, 5);
+    runPass(state, in);
+}
+BENCHMARK(BM_PlotterPass_100kPolylines)->Unit(benchmark::kMillisecond);
+
+/// Each stage alone on the 100k short strokes.
+void BM_Stage_100k(benchmark::State &state) {
+    static const auto in = randomShortStrokes(100000, 4000, 3);
+    const int stage = int(state.range(0));
+    for (auto _ : state) {
+        std::vector<Stroke> out;
+        if (stage == 0) out = removeOverlaps(in, 0.1);
+        else if (stage == 1) out = mergeStrokes(in, 0.5);
+        else out = sortStrokes(in, PlotterOptions{});
+        benchmark::DoNotOptimize(out.data());
+    }
+    static const char *names[] = {"overlaps", "merge", "sort"};
+    state.SetLabel(names[stage]);
+}
+BENCHMARK(BM_Stage_100k)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+/// The stroke list of the default scene, rendered once.
+const StrokeList *bunnyStrokes() {
+    static std::unique_ptr<StrokeList> strokes = []() -> std::unique_ptr<StrokeList> {
+        const std::string path = std::string(ROSY_SOURCE_DIR) + "/scenes/bunny.yaml";
+        scenes::SceneDesc desc;
+        try {
+            desc = scenes::parseSceneFile(path); // throws when data/meshes/bunny00.off is missing
+        } catch (const std::exception &) {
+            return nullptr;
+        }
+        scenes::Scene scene = scenes::buildScene(desc);
+        const field::TangentFrames frames(scene.mesh);
+        field::FieldResult fr = field::buildField(frames, desc.field.spec);
+        scenes::applyFieldEdits(frames, fr.field, desc.field.edits);
+        const field::SingularityReport sing = field::findSingularities(frames, fr.field);
+        const RayScene rays(scene.mesh);
+        IllustrationInput in;
+        in.mesh = &scene.mesh;
+        in.frames = &frames;
+        in.field = &fr.field;
+        in.singularities = &sing;
+        in.scene = &rays;
+        in.camera = &scene.camera;
+        in.lights = scene.lights;
+        in.shading = scene.shading;
+        in.style = scene.style;
+        return std::make_unique<StrokeList>(renderIllustration(in).strokes);
+    }();
+    return strokes.get();
+}
+
+/// The default scene's SVG (A4, plotter pass on): pen-up ratio against the unsorted order.
+void BM_BunnySvg(benchmark::State &state) {
+    const StrokeList *list = bunnyStrokes();
+    if (!list) {
+        state.SkipWithError("data/meshes/bunny00.off missing: run tools/setup.sh");
+        return;
+    }
+    SvgReport report;
+    for (auto _ : state) {
+        std::string doc = svgDocument(*list, SvgOptions{}, &report);
+        benchmark::DoNotOptimize(doc.data());
+    }
+    double inputPx = 0;
+    for (const Stroke &s : list->strokes)
+        for (size_t i = 1; i < s.points.size(); ++i) inputPx += (s.points[i] - s.points[i - 1]).norm();
+    state.counters["penup_ratio"] = report.penUpRatioVsUnsorted;
+    state.counters["pendown_change"] = report.penDownMm / (inputPx * report.mmPerPx) - 1;
+    state.counters["penup_mm"] = report.penUpMm;
+    state.counters["paths"] = report.paths;
+    state.counters["strokes"] = double(list->strokes.size());
+    state.counters["overlap_mm"] = report.overlapRemovedMm;
+}
+BENCHMARK(BM_BunnySvg)->Unit(benchmark::kMillisecond);
+
+} // namespace
+
+BENCHMARK_MAIN();

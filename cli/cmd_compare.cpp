@@ -1,0 +1,502 @@
+/// \file cmd_compare.cpp
+/// `rosyhatch compare SCENE.yaml`: the same scene drawn along several fields,
+/// side by side, each panel labeled with its field and singularity count, as in
+/// Palacios & Zhang 2007, Figure 1: 2-RoSy against 4-RoSy (a–b, `--symmetry 2,4`),
+/// a topologically edited field against a globally smoothed one (c–d,
+/// `--variants edited,smoothed`). Labels are drawn with a small built-in bitmap
+/// font, so the picture needs no font installed.
+
+#include "cli/commands.h"
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "field/editing.h"
+#include "field/field_builder.h"
+#include "field/separatrices.h"
+#include "field/singularities.h"
+#include "field/smoothing.h"
+#include "renderer/embree_scene.h"
+#include "renderer/field_picture.h"
+#include "renderer/illustration.h"
+#include "renderer/image.h"
+#include "scenes/scene.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+
+namespace rosy::cli {
+namespace {
+
+// --- a 5x7 bitmap font (our own glyphs), two extra rows for descenders ---------
+
+constexpr int kGlyphW = 5, kGlyphH = 9, kAdvance = 6;
+
+struct Glyph {
+    char c;
+    std::array<const char *, kGlyphH> rows;
+};
+
+// '#' is ink. Rows 0-6 sit above the baseline, 7-8 below it (descenders, comma).
+// clang-format off
+const Glyph kGlyphs[] = {
+    {' ', {".....", ".....", ".....", ".....", ".....", ".....", ".....", ".....", "....."}},
+    {'A', {".###.", "#...#", "#...#", "#####", "#...#", "#...#", "#...#", ".....", "....."}},
+    {'B', {"####.", "#...#", "#...#", "####.", "#...#", "#...#", "####.", ".....", "....."}},
+    {'C', {".###.", "#...#", "#....", "#....", "#....", "#...#", ".###.", ".....", "....."}},
+    {'D', {"####.", "#...#", "#...#", "#...#", "#...#", "#...#", "####.", ".....", "....."}},
+    {'E', {"#####", "#....", "#....", "####.", "#....", "#....", "#####", ".....", "....."}},
+    {'F', {"#####", "#....", "#....", "####.", "#....", "#....", "#....", ".....", "....."}},
+    {'G', {".###.", "#...#", "#....", "#.###", "#...#", "#...#", ".####", ".....", "....."}},
+    {'H', {"#...#", "#...#", "#...#", "#####", "#...#", "#...#", "#...#", ".....", "....."}},
+    {'I', {".###.", "..#..", "..#..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
+    {'J', {"..###", "...#.", "...#.", "...#.", "...#.", "#..#.", ".##..", ".....", "....."}},
+    {'K', {"#...#", "#..#.", "#.#..", "##...", "#.#..", "#..#.", "#...#", ".....", "....."}},
+    {'L', {"#....", "#....", "#....", "#....", "#....", "#....", "#####", ".....", "....."}},
+    {'M', {"#...#", "##.##", "#.#.#", "#.#.#", "#...#", "#...#", "#...#", ".....", "....."}},
+    {'N', {"#...#", "#...#", "##..#", "#.#.#", "#..##", "#...#", "#...#", ".....", "....."}},
+    {'O', {".###.", "#...#", "#...#", "#...#", "#...#", "#...#", ".###.", ".....", "....."}},
+    {'P', {"####.", "#...#", "#...#", "####.", "#....", "#....", "#....", ".....", "....."}},
+    {'Q', {".###.", "#...#", "#...#", "#...#", "#.#.#", "#..#.", ".##.#", ".....", "....."}},
+    {'R', {"####.", "#...#", "#...#", "####.", "#.#..", "#..#.", "#...#", ".....", "....."}},
+    {'S', {".####", "#....", "#....", ".###.", "....#", "....#", "####.", ".....", "....."}},
+    {'T', {"#####", "..#..", "..#..", "..#..", "..#..", "..#..", "..#..", ".....", "....."}},
+    {'U', {"#...#", "#...#", "#...#", "#...#", "#...#", "#...#", ".###.", ".....", "....."}},
+    {'V', {"#...#", "#...#", "#...#", "#...#", "#...#", ".#.#.", "..#..", ".....", "....."}},
+    {'W', {"#...#", "#...#", "#...#", "#.#.#", "#.#.#", "#.#.#", ".#.#.", ".....", "....."}},
+    {'X', {"#...#", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "#...#", ".....", "....."}},
+    {'Y', {"#...#", "#...#", ".#.#.", "..#..", "..#..", "..#..", "..#..", ".....", "....."}},
+    {'Z', {"#####", "....#", "...#.", "..#..", ".#...", "#....", "#####", ".....", "....."}},
+    {'a', {".....", ".....", ".###.", "....#", ".####", "#...#", ".####", ".....", "....."}},
+    {'b', {"#....", "#....", "####.", "#...#", "#...#", "#...#", "####.", ".....", "....."}},
+    {'c', {".....", ".....", ".###.", "#....", "#....", "#....", ".###.", ".....", "....."}},
+    {'d', {"....#", "....#", ".####", "#...#", "#...#", "#...#", ".####", ".....", "....."}},
+    {'e', {".....", ".....", ".###.", "#...#", "#####", "#....", ".###.", ".....", "....."}},
+    {'f', {"..##.", ".#...", ".#...", "###..", ".#...", ".#...", ".#...", ".....", "....."}},
+    {'g', {".....", ".....", ".####", "#...#", "#...#", "#...#", ".####", "....#", ".###."}},
+    {'h', {"#....", "#....", "####.", "#...#", "#...#", "#...#", "#...#", ".....", "....."}},
+    {'i', {"..#..", ".....", ".##..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
+    {'j', {"...#.", ".....", "..##.", "...#.", "...#.", "...#.", "...#.", "#..#.", ".##.."}},
+    {'k', {"#....", "#....", "#..#.", "#.#..", "##...", "#.#..", "#..#.", ".....", "....."}},
+    {'l', {".##..", "..#..", "..#..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
+    {'m', {".....", ".....", "##.#.", "#.#.#", "#.#.#", "#.#.#", "#.#.#", ".....", "....."}},
+    {'n', {".....", ".....", "####.", "#...#", "#...#", "#...#", "#...#", ".....", "....."}},
+    {'o', {".....", ".....", ".###.", "#...#", "#...#", "#...#", ".###.", ".....", "....."}},
+    {'p', {".....", ".....", "####.", "#...#", "#...#", "#...#", "####.", "#....", "#...."}},
+    {'q', {".....", ".....", ".####", "#...#", "#...#", "#...#", ".####", "....#", "....#"}},
+    {'r', {".....", ".....", "#.##.", "##..#", "#....", "#....", "#....", ".....", "....."}},
+    {'s', {".....", ".....", ".####", "#....", ".###.", "....#", "####.", ".....", "....."}},
+    {'t', {".#...", ".#...", "###..", ".#...", ".#...", ".#..#", "..##.", ".....", "....."}},
+    {'u', {".....", ".....", "#...#", "#...#", "#...#", "#..##", ".##.#", ".....", "....."}},
+    {'v', {".....", ".....", "#...#", "#...#", "#...#", ".#.#.", "..#..", ".....", "....."}},
+    {'w', {".....", ".....", "#...#", "#...#", "#.#.#", "#.#.#", ".#.#.", ".....", "....."}},
+    {'x', {".....", ".....", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", ".....", "....."}},
+    {'y', {".....", ".....", "#...#", "#...#", "#...#", "#...#", ".####", "....#", ".###."}},
+    {'z', {".....", ".....", "#####", "...#.", "..#..", ".#...", "#####", ".....", "....."}},
+    {'0', {".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###.", ".....", "....."}},
+    {'1', {"..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
+    {'2', {".###.", "#...#", "....#", "...#.", "..#..", ".#...", "#####", ".....", "....."}},
+    {'3', {"#####", "...#.", "..#..", "...#.", "....#", "#...#", ".###.", ".....", "....."}},
+    {'4', {"...#.", "..##.", ".#.#.", "#..#.", "#####", "...#.", "...#.", ".....", "....."}},
+    {'5', {"#####", "#....", "####.", "....#", "....#", "#...#", ".###.", ".....", "....."}},
+    {'6', {"..##.", ".#...", "#....", "####.", "#...#", "#...#", ".###.", ".....", "....."}},
+    {'7', {"#####", "....#", "...#.", "..#..", ".#...", ".#...", ".#...", ".....", "....."}},
+    {'8', {".###.", "#...#", "#...#", ".###.", "#...#", "#...#", ".###.", ".....", "....."}},
+    {'9', {".###.", "#...#", "#...#", ".####", "....#", "...#.", ".##..", ".....", "....."}},
+    {'-', {".....", ".....", ".....", ".###.", ".....", ".....", ".....", ".....", "....."}},
+    {'+', {".....", "..#..", "..#..", "#####", "..#..", "..#..", ".....", ".....", "....."}},
+    {'=', {".....", ".....", "#####", ".....", "#####", ".....", ".....", ".....", "....."}},
+    {'(', {"...#.", "..#..", ".#...", ".#...", ".#...", "..#..", "...#.", ".....", "....."}},
+    {')', {".#...", "..#..", "...#.", "...#.", "...#.", "..#..", ".#...", ".....", "....."}},
+    {'.', {".....", ".....", ".....", ".....", ".....", ".##..", ".##..", ".....", "....."}},
+    {',', {".....", ".....", ".....", ".....", ".....", ".....", ".##..", "..#..", ".#..."}},
+    {':', {".....", ".##..", ".##..", ".....", ".##..", ".##..", ".....", ".....", "....."}},
+    {'/', {"....#", "....#", "...#.", "..#..", ".#...", "#....", "#....", ".....", "....."}},
+    {'%', {"##..#", "##..#", "...#.", "..#..", ".#...", "#..##", "#..##", ".....", "....."}},
+    {'\'', {"..#..", "..#..", ".#...", ".....", ".....", ".....", ".....", ".....", "....."}},
+};
+// clang-format on
+
+// Characters without a glyph: a hollow box, so a missing glyph is visible, not silent.
+const Glyph kMissingGlyph{'?', {"#####", "#...#", "#...#", "#...#", "#...#", "#...#", "#####", ".....", "....."}};
+
+const Glyph &glyphFor(char c) {
+    for (const Glyph &g : kGlyphs)
+        if (g.c == c) return g;
+    return kMissingGlyph;
+}
+
+/// Width in pixels of `text` at scale `s` (no trailing gap).
+int textWidth(const std::string &text, int s) {
+    return text.empty() ? 0 : (int(text.size()) * kAdvance - 1) * s;
+}
+
+/// Draws `text` with its top-left corner at (x, y), every font pixel an s x s block,
+/// only in columns [clipX0, clipX1).
+void drawText(renderer::Image &image, const std::string &text, int x, int y, int s,
+              const std::array<float, 3> &colour, int clipX0, int clipX1) {
+    for (size_t i = 0; i < text.size(); ++i) {
+        const Glyph &g = glyphFor(text[i]);
+        const int gx = x + int(i) * kAdvance * s;
+        for (int row = 0; row < kGlyphH; ++row)
+            for (int col = 0; col < kGlyphW; ++col) {
+                if (g.rows[size_t(row)][col] != '#') continue;
+                for (int dy = 0; dy < s; ++dy)
+                    for (int dx = 0; dx < s; ++dx) {
+                        const int px = gx + col * s + dx, py = y + row * s + dy;
+                        if (px < std::max(0, clipX0) || px >= std::min(image.width, clipX1) || py < 0 ||
+                            py >= image.height)
+                            continue;
+                        for (int c = 0; c < 3; ++c) image.at(px, py, c) = colour[size_t(c)];
+                    }
+            }
+    }
+}
+
+// --- options and panels -------------------------------------------------------
+
+struct CompareOptions {
+    std::string scenePath, outputPath;
+    std::string symmetries;      ///< "2,4"
+    std::string variants;        ///< "edited,smoothed"
+    std::string smoothing = "60:0.5"; ///< ITERATIONS[:STRENGTH] of the smoothed variant
+    int cancelPairs = -1;        ///< edited variant without scene edits: pairs to cancel (-1: automatic)
+    bool fieldPictures = false;  ///< panels are field pictures instead of hatching
+    bool separatrices = false;   ///< field pictures: draw separatrices
+    std::vector<std::string> overrides;
+    CommonOptions common;
+    bool threadsGiven = false; ///< --threads was given: it beats the scene's `threads`
+};
+
+struct Panel {
+    std::string label;
+    field::RosyField field;
+    field::SingularityReport singularities;
+};
+
+std::vector<std::string> splitList(const std::string &text) {
+    std::vector<std::string> items;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+std::string countText(size_t n) { return std::to_string(n) + (n == 1 ? " singularity" : " singularities"); }
+
+/// Cancels first-order opposite-sign pairs, the closest (Euclidean) first, until the
+/// field has at most `target` singularities or `maxPairs` pairs are gone. A pair the
+/// editor cannot cancel (another singularity in the way, both on the boundary) is
+/// skipped. Returns the number of pairs cancelled.
+int cancelClosestPairs(const field::TangentFrames &frames, field::RosyField &rosyField, size_t target,
+                       int maxPairs) {
+    int cancelled = 0;
+    std::set<std::pair<int, int>> failed; // face pairs that could not be cancelled
+    for (;;) {
+        const std::vector<field::Singularity> list = field::findSingularities(frames, rosyField).singularities;
+        if (list.size() <= target || cancelled >= maxPairs) break;
+        struct Candidate {
+            double distance;
+            int a, b;
+        };
+        std::vector<Candidate> candidates;
+        for (size_t i = 0; i < list.size(); ++i) {
+            if (list[i].indexNumerator != 1) continue;
+            for (size_t j = 0; j < list.size(); ++j) {
+                if (list[j].indexNumerator != -1) continue;
+                if (failed.count({list[i].face, list[j].face})) continue;
+                candidates.push_back({(list[i].position - list[j].position).norm(), int(i), int(j)});
+            }
+        }
+        if (candidates.empty()) break;
+        // Nearest first; ids break ties so the order never depends on the sort.
+        std::sort(candidates.begin(), candidates.end(), [](const Candidate &x, const Candidate &y) {
+            return std::tie(x.distance, x.a, x.b) < std::tie(y.distance, y.a, y.b);
+        });
+        bool done = false;
+        for (const Candidate &c : candidates) {
+            try {
+                field::cancelPair(frames, rosyField, c.a, c.b);
+                ++cancelled;
+                done = true;
+                break;
+            } catch (const InputError &) {
+                failed.insert({list[size_t(c.a)].face, list[size_t(c.b)].face});
+                if (failed.size() > 64) break; // the rest of the field is crowded; stop trying
+            }
+        }
+        if (!done) break;
+    }
+    return cancelled;
+}
+
+void runCompare(const CompareOptions &opt) {
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<tbb::global_control> threadLimit;
+    if (opt.threadsGiven && opt.common.threads > 0)
+        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
+    setProgressEnabled(!opt.common.quiet);
+    Timings timings;
+
+    if (!opt.symmetries.empty() && !opt.variants.empty())
+        throw InputError(FileLoc{"--variants"}, "--symmetry and --variants cannot be combined",
+                         "compare symmetries (--symmetry 2,4) or variants of the scene's field (--variants edited,smoothed)");
+    if (!renderer::isSupportedImagePath(opt.outputPath))
+        throw InputError(FileLoc{"-o"}, "cannot write an image named '" + opt.outputPath + "'",
+                         std::string("use one of the extensions ") + renderer::supportedImageExtensions());
+
+    // What the panels are, checked before any work.
+    std::vector<int> symmetries;
+    std::vector<std::string> variants;
+    if (!opt.variants.empty()) {
+        variants = splitList(opt.variants);
+        if (variants.empty() || variants.size() > 8)
+            throw InputError(FileLoc{"--variants"}, "'" + opt.variants + "' is not a list of 1 to 8 variants",
+                             "e.g. --variants edited,smoothed");
+        for (const std::string &v : variants)
+            if (v != "original" && v != "edited" && v != "smoothed")
+                throw InputError(FileLoc{"--variants"}, "unknown variant '" + v + "'",
+                                 "use original, edited or smoothed");
+    } else {
+        const std::string list = opt.symmetries.empty() ? "2,4" : opt.symmetries;
+        for (const std::string &item : splitList(list)) {
+            int n = 0;
+            size_t used = 0;
+            try {
+                n = std::stoi(item, &used);
+            } catch (const std::exception &) {
+                used = 0;
+            }
+            if (used != item.size())
+                throw InputError(FileLoc{"--symmetry"}, "'" + item + "' is not a whole number", "e.g. --symmetry 2,4");
+            field::checkSymmetry(n, "--symmetry");
+            symmetries.push_back(n);
+        }
+        if (symmetries.empty() || symmetries.size() > 8)
+            throw InputError(FileLoc{"--symmetry"}, "'" + list + "' is not a list of 1 to 8 symmetries",
+                             "e.g. --symmetry 2,4");
+    }
+    int smoothIterations = 0;
+    double smoothStrength = 0.5;
+    {
+        char extra = 0;
+        const int n = std::sscanf(opt.smoothing.c_str(), "%d:%lf%c", &smoothIterations, &smoothStrength, &extra);
+        if (n < 1 || n > 2 || smoothIterations < 1 || smoothIterations > 100000 ||
+            !(smoothStrength > 0 && smoothStrength <= 1))
+            throw InputError(FileLoc{"--smoothing"}, "'" + opt.smoothing + "' is not ITERATIONS[:STRENGTH]",
+                             "e.g. 60:0.5 (at least one iteration, strength in (0, 1])");
+    }
+
+    scenes::SceneDesc desc =
+        timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides); });
+    // The scene's `threads` when --threads was not given (0 = all cores).
+    if (!opt.threadsGiven && desc.threads.value > 0)
+        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(desc.threads.value));
+    checkWritable(opt.outputPath);
+    if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
+
+    scenes::Scene scene = timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
+    const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });
+    const field::FieldSpec &spec = desc.field.spec;
+    const char letters[] = "abcdefgh";
+
+    std::vector<Panel> panels;
+    timings.time("fields", [&] {
+        if (!symmetries.empty()) {
+            for (size_t k = 0; k < symmetries.size(); ++k) {
+                field::FieldSpec s = spec;
+                s.nSym = symmetries[k];
+                Panel panel;
+                panel.field = field::buildField(frames, s).field;
+                // The scene's edits name singularities of its own field: only that N gets them.
+                std::string edited;
+                if (s.nSym == spec.nSym && !desc.field.edits.empty()) {
+                    scenes::applyFieldEdits(frames, panel.field, desc.field.edits);
+                    edited = ", edited";
+                }
+                panel.singularities = field::findSingularities(frames, panel.field);
+                panel.label = std::string("(") + letters[k] + ") " + std::to_string(s.nSym) + "-RoSy" + edited + ": " +
+                              countText(panel.singularities.singularities.size());
+                panels.push_back(std::move(panel));
+            }
+            return;
+        }
+        const field::RosyField base = field::buildField(frames, spec).field;
+        const std::string name = std::to_string(spec.nSym) + "-RoSy";
+        const size_t baseCount = field::findSingularities(frames, base).singularities.size();
+        // The smoothed field first: an automatic edit aims at its singularity count.
+        std::optional<Panel> smoothed;
+        if (std::find(variants.begin(), variants.end(), "smoothed") != variants.end()) {
+            smoothed.emplace();
+            smoothed->field = base;
+            field::relaxationSmooth(frames, smoothed->field, smoothIterations, smoothStrength, {}, spec.weights);
+            smoothed->singularities = field::findSingularities(frames, smoothed->field);
+        }
+        for (size_t k = 0; k < variants.size(); ++k) {
+            const std::string prefix = std::string("(") + letters[k] + ") " + name;
+            Panel panel;
+            std::string what;
+            if (variants[k] == "original") {
+                panel.field = base;
+                panel.singularities = field::findSingularities(frames, panel.field);
+                what = "";
+            } else if (variants[k] == "smoothed") {
+                panel = *smoothed;
+                what = ", smoothed " + std::to_string(smoothIterations) + "x";
+            } else {
+                panel.field = base;
+                if (!desc.field.edits.empty()) {
+                    scenes::applyFieldEdits(frames, panel.field, desc.field.edits);
+                    what = ", " + std::to_string(desc.field.edits.size()) + " edits";
+                } else {
+                    // No edits in the scene: cancel the closest pairs, as many as smoothing
+                    // removed (or --cancel-pairs), so the two remedies are compared fairly.
+                    size_t target = 0;
+                    int maxPairs = opt.cancelPairs;
+                    if (maxPairs < 0) {
+                        const size_t goal = smoothed ? smoothed->singularities.singularities.size()
+                                                     : (baseCount > 20 ? baseCount - 20 : 0);
+                        target = std::min(goal, baseCount);
+                        maxPairs = int(baseCount);
+                    }
+                    const int pairs = cancelClosestPairs(frames, panel.field, target, maxPairs);
+                    what = ", " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") + " cancelled";
+                }
+                panel.singularities = field::findSingularities(frames, panel.field);
+            }
+            panel.label = prefix + what + ": " + countText(panel.singularities.singularities.size());
+            panels.push_back(std::move(panel));
+        }
+    });
+
+    // One picture per panel, all through the scene's camera.
+    std::vector<renderer::Image> pictures;
+    std::unique_ptr<renderer::RayScene> rayScene;
+    if (!opt.fieldPictures)
+        rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
+    timings.time("panels", [&] {
+        for (const Panel &panel : panels) {
+            if (opt.fieldPictures) {
+                std::vector<field::Separatrix> seps;
+                if (opt.separatrices)
+                    seps = field::traceSeparatrices(frames, panel.field, panel.singularities.singularities);
+                renderer::FieldPictureOptions fo;
+                fo.lights = scene.lights;
+                pictures.push_back(renderer::renderFieldPicture(scene.mesh, frames, panel.field, panel.singularities,
+                                                                seps, scene.camera, fo));
+                continue;
+            }
+            renderer::IllustrationInput input;
+            input.mesh = &scene.mesh;
+            input.frames = &frames;
+            input.field = &panel.field;
+            input.singularities = &panel.singularities;
+            input.scene = rayScene.get();
+            input.camera = &scene.camera;
+            input.lights = scene.lights;
+            input.shading = scene.shading;
+            input.style = scene.style;
+            pictures.push_back(renderer::renderIllustration(input).composite);
+        }
+    });
+
+    // Side by side on paper, labels underneath in ink.
+    const int w = scene.camera.width(), h = scene.camera.height();
+    const int n = int(pictures.size());
+    const int gap = std::max(4, std::min(w, h) / 32);
+    size_t longest = 0;
+    for (const Panel &p : panels) longest = std::max(longest, p.label.size());
+    // Labels about 2.5% of the panel height tall, shrunk to fit the panel width;
+    // a label still too wide breaks after its ':' (field, then count), and a line
+    // still too wide is clipped at the panel's edges.
+    int scale = std::max(1, int(std::lround(std::min(w, h) * 0.025 / 7.0)));
+    while (scale > 1 && textWidth(std::string(longest, 'x'), scale) > w) --scale;
+    std::vector<std::vector<std::string>> labelLines;
+    size_t maxLines = 1;
+    for (const Panel &p : panels) {
+        std::vector<std::string> lines{p.label};
+        const size_t colon = p.label.rfind(": ");
+        if (textWidth(p.label, scale) > w && colon != std::string::npos)
+            lines = {p.label.substr(0, colon + 1), p.label.substr(colon + 2)};
+        maxLines = std::max(maxLines, lines.size());
+        labelLines.push_back(lines);
+    }
+    const int lineHeight = (kGlyphH + 2) * scale;
+    const int band = int(maxLines) * lineHeight + gap;
+    auto toFloat = [](const styles::Rgb &c) { return std::array<float, 3>{float(c[0]), float(c[1]), float(c[2])}; };
+    const std::array<float, 3> paper = opt.fieldPictures ? std::array<float, 3>{1, 1, 1} : toFloat(scene.style.paper);
+    const std::array<float, 3> ink = opt.fieldPictures ? std::array<float, 3>{0, 0, 0} : toFloat(scene.style.ink);
+    renderer::Image sheet(n * w + (n + 1) * gap, h + 2 * gap + band, {"R", "G", "B"});
+    for (int y = 0; y < sheet.height; ++y)
+        for (int x = 0; x < sheet.width; ++x)
+            for (int c = 0; c < 3; ++c) sheet.at(x, y, c) = paper[size_t(c)];
+    for (int k = 0; k < n; ++k) {
+        const renderer::Image &pic = pictures[size_t(k)];
+        const int x0 = gap + k * (w + gap), y0 = gap;
+        const bool hasAlpha = pic.nChannels >= 4;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float a = hasAlpha ? pic.at(x, y, 3) : 1.0f;
+                for (int c = 0; c < 3; ++c)
+                    sheet.at(x0 + x, y0 + y, c) = pic.at(x, y, c) * a + paper[size_t(c)] * (1 - a);
+            }
+        const std::vector<std::string> &lines = labelLines[size_t(k)];
+        for (size_t i = 0; i < lines.size(); ++i)
+            drawText(sheet, lines[i], x0 + std::max(0, (w - textWidth(lines[i], scale)) / 2),
+                     y0 + h + gap / 2 + int(i) * lineHeight, scale, ink, x0, x0 + w);
+    }
+    timings.time("write", [&] { renderer::writeImage(sheet, opt.outputPath); });
+
+    if (!opt.common.quiet)
+        for (const Panel &p : panels) std::cerr << p.label << "\n";
+    const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath, totalMs);
+    std::cout << opt.outputPath << "\n";
+}
+
+} // namespace
+
+void addCompareCommand(CLI::App &app, Action &action) {
+    auto opt = std::make_shared<CompareOptions>();
+    CLI::App *sub = app.add_subcommand(
+        "compare", "draw a scene along several fields side by side, each panel labeled with its field and "
+                   "singularity count (P&Z 2007 Fig. 1)");
+    sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md)")->required();
+    sub->add_option("-o,--output", opt->outputPath, "the side-by-side image (.png .exr .tif .tiff .jpg .jpeg)")
+        ->required();
+    sub->add_option("--symmetry", opt->symmetries,
+                    "one panel per symmetry order, e.g. 2,4 (the default): the scene's field source built as an "
+                    "N-RoSy for each N; the scene's edits apply only to its own N");
+    sub->add_option("--variants", opt->variants,
+                    "one panel per variant of the scene's field, e.g. edited,smoothed: original; edited (the scene's "
+                    "field edits, or without any the closest opposite pairs cancelled until as few singularities "
+                    "remain as smoothing leaves); smoothed (the paper's global smoothing, see --smoothing)");
+    sub->add_option("--smoothing", opt->smoothing,
+                    "global smoothing of the smoothed variant: ITERATIONS[:STRENGTH]")
+        ->capture_default_str();
+    sub->add_option("--cancel-pairs", opt->cancelPairs,
+                    "edited variant of a scene without edits: cancel exactly this many closest pairs")
+        ->check(CLI::Range(0, 100000));
+    sub->add_flag("--field-pictures", opt->fieldPictures,
+                  "panels show the field (streamlines, singularity dots) instead of the hatching");
+    sub->add_flag("--separatrices", opt->separatrices, "with --field-pictures: draw each singularity's separatrices");
+    addSetOption(*sub, opt->overrides);
+    addCommonOptions(*sub, opt->common);
+    sub->callback([opt, sub, &action] {
+        opt->threadsGiven = sub->get_option("--threads")->count() > 0;
+        action = [opt] { runCompare(*opt); };
+    });
+}
+
+} // namespace rosy::cli

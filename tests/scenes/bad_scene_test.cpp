@@ -1,0 +1,263 @@
+// The scene half of the bad-input catalogue (tests/README.md): each hostile or
+// mistaken scene file is an InputError at `FILE:LINE:COL` with a hint, never a
+// crash, a hang or a huge allocation. Lines and columns below are counted by
+// hand in each YAML text (1-based).
+
+#include "core/error.h"
+#include "field/mesh_io.h"
+#include "field/frames.h"
+#include "field/primitives.h"
+#include "scenes/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace rosy::scenes;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path dir() {
+    fs::path d = fs::path(ROSY_BINARY_DIR) / "test-output" / "bad_scenes";
+    fs::create_directories(d);
+    return d;
+}
+
+std::string path() { return (dir() / "s.yaml").string(); }
+
+/// The InputError message parseScene gives for `text` ("" if none).
+std::string parseError(const std::string &text) {
+    try {
+        parseScene(text, path());
+    } catch (const rosy::InputError &e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text.substr(0, 300);
+    return {};
+}
+
+/// The InputError message buildScene gives after a successful parse.
+std::string buildError(const std::string &text) {
+    try {
+        buildScene(parseScene(text, path()));
+    } catch (const rosy::InputError &e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text;
+    return {};
+}
+
+/// The InputError message of building the scene's field.
+std::string buildErrorField(const std::string &text) {
+    try {
+        const SceneDesc desc = parseScene(text, path());
+        const Scene scene = buildScene(desc);
+        const rosy::field::TangentFrames frames(scene.mesh);
+        rosy::field::buildField(frames, desc.field.spec);
+    } catch (const rosy::InputError &e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text;
+    return {};
+}
+
+::testing::AssertionResult startsWith(const std::string &s, const std::string &prefix) {
+    if (s.rfind(prefix, 0) == 0) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "'" << s << "' does not start with '" << prefix << "'";
+}
+
+bool contains(const std::string &s, const std::string &part) { return s.find(part) != std::string::npos; }
+
+} // namespace
+
+TEST(BadScene, SyntaxErrorIsLocated) {
+    const std::string msg = parseError("mesh: {primitive: icosphere\ncamera: [\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:7: error: YAML syntax error")) << msg;
+}
+
+TEST(BadScene, NestingDeeperThanTheLimitIsRejected) {
+    // 33 levels: one over the documented limit of 32. The deepest list that is
+    // still allowed sits at column 32 (the root map is level 1).
+    std::string deep = "mesh: {primitive: icosphere}\nx: " + std::string(32, '[') + std::string(32, ']') + "\n";
+    std::string msg = parseError(deep);
+    EXPECT_TRUE(startsWith(msg, path() + ":2:")) << msg;
+    EXPECT_TRUE(contains(msg, "nesting deeper than 32 levels")) << msg;
+    // 100 000 levels: yaml-cpp's own guard (depth 2000) stops it, still located, no stack overflow.
+    deep = "mesh: {primitive: icosphere}\nx: " + std::string(100000, '[') + std::string(100000, ']') + "\n";
+    msg = parseError(deep);
+    EXPECT_TRUE(startsWith(msg, path() + ":2:")) << msg;
+    // 31 levels pass the shape check (and then fail as an unknown key, at line 2 column 1).
+    const std::string ok = "mesh: {primitive: icosphere}\nx: " + std::string(31, '[') + std::string(31, ']') + "\n";
+    EXPECT_TRUE(startsWith(parseError(ok), path() + ":2:1: error: unknown key 'x'")) << parseError(ok);
+}
+
+TEST(BadScene, AliasBombIsStoppedByTheValueBudget) {
+    // Eleven levels of nine aliases each expand to 9^12 ~ 2.8e11 values.
+    std::string text = "mesh: {primitive: icosphere}\nstyle:\n  a0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+    for (int i = 1; i < 12; ++i) {
+        const std::string prev = "*a" + std::to_string(i - 1);
+        text += "  a" + std::to_string(i) + ": &a" + std::to_string(i) + " [" + prev;
+        for (int k = 1; k < 9; ++k) text += ", " + prev;
+        text += "]\n";
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string msg = parseError(text);
+    EXPECT_TRUE(startsWith(msg, path() + ":")) << msg;
+    EXPECT_TRUE(contains(msg, "more than 100000 values")) << msg;
+    // Not a timing assertion on speed, a guard against an effectively endless walk.
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 60.0);
+}
+
+TEST(BadScene, CyclicAliasIsRejected) {
+    std::string msg = parseError("mesh: {primitive: icosphere}\nlights: &a [*a]\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:9: error: an alias refers to a node that contains it")) << msg;
+    msg = parseError("mesh: &m {primitive: icosphere, radius: *m}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:7: error: an alias refers to a node that contains it")) << msg;
+}
+
+TEST(BadScene, DuplicateKeysNameBothLines) {
+    const std::string msg = parseError("mesh: {primitive: icosphere}\ncamera: {fov: 30}\ncamera: {fov: 40}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":3:1: error: duplicate key 'camera' in the scene (first set at line 2)"))
+        << msg;
+}
+
+TEST(BadScene, UnknownKeySuggestsTheNearest) {
+    const std::string msg = parseError("mesh: {primitive: icosphere}\ncamra: {fov: 30}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:1: error: unknown key 'camra'")) << msg;
+    EXPECT_TRUE(contains(msg, "did you mean 'camera'?")) << msg;
+}
+
+TEST(BadScene, WrongTypeNamesTheNodesOwnLine) {
+    const std::string msg = parseError("mesh: {primitive: icosphere}\ncamera:\n  fov: [1, 2]\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":3:8: error: camera.fov (degrees) must be a number, got a list")) << msg;
+}
+
+TEST(BadScene, OutOfRangeNumbers) {
+    std::string msg = parseError("mesh: {primitive: icosphere}\ncamera: {fov: 1e999}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:15: error: camera.fov (degrees) must be a")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\ncamera: {fov: .nan}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:15: error: camera.fov (degrees) must be a finite number")) << msg;
+    msg = parseError("mesh: {primitive: icosphere, subdivisions: -2}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:44: error: mesh.subdivisions must be in [0, 8], got -2")) << msg;
+    msg = parseError("mesh: {primitive: icosphere, subdivisions: 2.5}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:44: error: mesh.subdivisions must be a whole number")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\ncamera: {resolution: [-5, 10]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:23: error: camera.resolution width must be in [1, 16384]")) << msg;
+}
+
+TEST(BadScene, ResolutionThatWouldExhaustMemoryIsRejectedBeforeAllocating) {
+    // 16384 x 16384 passes the per-side check but is 268 million pixels.
+    const std::string msg = parseError("mesh: {primitive: icosphere}\ncamera: {resolution: [16384, 16384]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:22: error: camera.resolution 16384 x 16384 is 268435456 pixels")) << msg;
+    // Exactly at the limit is fine.
+    EXPECT_NO_THROW(parseScene("mesh: {primitive: icosphere}\ncamera: {resolution: [4096, 4096]}\n", path()));
+    EXPECT_NO_THROW(parseScene("mesh: {primitive: icosphere}\ncamera: {resolution: [16384, 1024]}\n", path()));
+}
+
+TEST(BadScene, DegenerateCameras) {
+    std::string msg = parseError("mesh: {primitive: icosphere}\ncamera: {position: [0, 0, 5], look_at: [0, 0, 5]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:40: error: camera.look_at equals camera.position")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\ncamera: {position: [0, 5, 0], look_at: [0, 0, 0]}\n");
+    EXPECT_TRUE(contains(msg, "camera.up is parallel to the viewing direction")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\ncamera: {fov: 0}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:15: error: camera.fov")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\ncamera: {direction: [0, 0, 0]}\n");
+    EXPECT_TRUE(contains(msg, "camera.direction must not be [0, 0, 0]")) << msg;
+}
+
+TEST(BadScene, CameraThatSeesNothing) {
+    // Looking away from the unit sphere: it is entirely behind the camera.
+    std::string msg = buildError("mesh: {primitive: icosphere}\n"
+                                 "camera: {position: [0, 0, 5], look_at: [0, 0, 10]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:40: error: the camera sees none of the mesh")) << msg;
+    // Beside the view: the sphere at x = 0 seen from x = 100 looking down -z with a 10 degree cone.
+    msg = buildError("mesh: {primitive: icosphere}\n"
+                     "camera: {position: [100, 0, 5], look_at: [100, 0, 0], fov: 10}\n");
+    EXPECT_TRUE(contains(msg, "the camera sees none of the mesh")) << msg;
+    // Orthographic, shifted sideways by more than half its view plus the radius.
+    msg = buildError("mesh: {primitive: icosphere}\n"
+                     "camera: {projection: orthographic, position: [4, 0, 5], look_at: [4, 0, 0], height: 2}\n");
+    EXPECT_TRUE(contains(msg, "the camera sees none of the mesh")) << msg;
+    // The test is conservative: a camera that sees only a sliver is accepted.
+    EXPECT_NO_THROW(buildScene(parseScene("mesh: {primitive: icosphere}\n"
+                                          "camera: {position: [1.5, 0, 5], look_at: [1.5, 0, 0], fov: 20}\n",
+                                          path())));
+}
+
+TEST(BadScene, CameraInsideTheMesh) {
+    const std::string msg = buildError("mesh: {primitive: icosphere}\n"
+                                       "camera: {position: [0, 0, 0.2], look_at: [0, 0, -1]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:20: error: camera.position is inside the mesh")) << msg;
+    // Inside a torus's hole is outside the surface: fine.
+    EXPECT_NO_THROW(buildScene(parseScene("mesh: {primitive: torus}\n"
+                                          "camera: {position: [0, 0, 0], look_at: [1, 0, 0]}\n",
+                                          path())));
+    // An open surface (a grid) has no inside.
+    EXPECT_NO_THROW(buildScene(parseScene("mesh: {primitive: grid}\n"
+                                          "camera: {position: [0.5, 0.5, 0.01], look_at: [0.5, 0.5, 1]}\n",
+                                          path())));
+}
+
+TEST(BadScene, MissingUnreadableOrFolderMeshPaths) {
+    std::string msg = parseError("mesh: none.off\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:7: error: mesh file '")) << msg;
+    fs::create_directories(dir() / "folder.off");
+    msg = parseError("mesh: folder.off\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:7: error: mesh '")) << msg;
+    EXPECT_TRUE(contains(msg, "is a folder")) << msg;
+    // Unreadable: an IoError naming the file (exit 3). Root reads everything, so
+    // only an unprivileged run can check it.
+    const fs::path locked = dir() / "locked.off";
+    std::ofstream(locked) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    fs::permissions(locked, fs::perms::none);
+    if (::geteuid() != 0) {
+        const SceneDesc desc = parseScene("mesh: locked.off\n", path());
+        try {
+            buildScene(desc);
+            ADD_FAILURE() << "an unreadable mesh was read";
+        } catch (const rosy::IoError &e) {
+            EXPECT_TRUE(contains(e.what(), "locked.off: error: cannot open the file for reading")) << e.what();
+        }
+    }
+    fs::permissions(locked, fs::perms::owner_all);
+}
+
+TEST(BadScene, EmptyFileSeveralDocumentsAndNonMapRoots) {
+    EXPECT_TRUE(startsWith(parseError(""), path() + ":1:1: error: the scene file is empty"));
+    EXPECT_TRUE(startsWith(parseError("# only a comment\n"), path() + ":1:1: error: the scene file is empty"));
+    std::string msg = parseError("mesh: {primitive: icosphere}\n---\nmesh: {primitive: torus}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":3:1: error: the file holds several YAML documents")) << msg;
+    msg = parseError("- mesh\n- camera\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:1: error: the scene must be a map")) << msg;
+    msg = parseError("just a string\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:1: error: the scene must be a map")) << msg;
+}
+
+TEST(BadScene, FaceLimitReachesTheMeshLoader) {
+    std::ofstream(dir() / "tet.off") << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const SceneDesc desc = parseScene("mesh: tet.off\n", path());
+    rosy::field::LoadOptions options;
+    options.maxFaces = 3;
+    try {
+        buildScene(desc, options);
+        ADD_FAILURE() << "the face limit was ignored";
+    } catch (const rosy::InputError &e) {
+        EXPECT_TRUE(contains(e.what(), "tet.off:2:1: error: the file has 4 faces, more than the limit of 3"))
+            << e.what();
+    }
+    EXPECT_EQ(buildScene(desc).mesh.nFaces(), 4);
+}
+
+TEST(BadScene, FieldElementsOffTheMeshOrWithInvalidOrder) {
+    std::string msg = buildErrorField("mesh: {primitive: icosphere}\n"
+                                      "field: {source: design, elements: [{position: [50, 0, 0], order: 1}]}\n");
+    EXPECT_TRUE(contains(msg, "design element at")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\n"
+                     "field: {source: design, elements: [{position: [1, 0, 0], order: 2}]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:")) << msg;
+    EXPECT_TRUE(contains(msg, "order")) << msg;
+}

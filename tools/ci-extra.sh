@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# The sanitizer and fuzzing part of CI, run by `tools/setup.sh test` after the normal
+# test suite (see tests/README.md, "Fuzzing and sanitizers"):
+#   1. one clang tree with ROSY_SANITIZE=ON and ROSY_FUZZ=ON (ASan + UBSan everywhere,
+#      libFuzzer coverage, no benchmarks), built with ROSY_JOBS jobs;
+#   2. the whole test suite under the sanitizers (ROSY_SANITIZED shrinks the heavy cases;
+#      the canary tests prove the sanitizers are really there);
+#   3. every fuzz harness replays its seeds, the generated binary seeds and every past
+#      crasher in tests/fuzz/<harness>/crashers/, then fuzzes ROSY_FUZZ_SECONDS (60) seconds.
+# Any sanitizer report, failed test or fuzzing finding fails the script; findings are
+# saved under $build/fuzz-findings/<harness>/ and the path is printed.
+#
+#   tools/ci-extra.sh              # everything
+#   tools/ci-extra.sh fuzz         # only build + replay + fuzz (no test suite)
+#   ROSY_FUZZ_SECONDS=600 tools/ci-extra.sh fuzz
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$here"
+what=${1:-all}
+build=${ROSY_SANITIZE_BUILD_DIR:-$here/build-sanitize}
+jobs=${ROSY_JOBS:-2}
+seconds=${ROSY_FUZZ_SECONDS:-60}
+harnesses=(fuzz_scene fuzz_mesh_off fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_stl fuzz_field)
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+t0=$SECONDS
+if [ ! -f "$build/build.ninja" ]; then
+  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14 \
+        -DROSY_SANITIZE=ON -DROSY_FUZZ=ON -DROSY_BUILD_BENCHMARKS=OFF >/dev/null
+fi
+cmake --build "$build" -j "$jobs"
+echo "ci-extra: sanitizer + fuzzer build took $((SECONDS - t0)) s"
+
+if [ "$what" = all ]; then
+  t1=$SECONDS
+  (cd "$build" && ctest --output-on-failure -j "$jobs")
+  echo "ci-extra: sanitized test suite took $((SECONDS - t1)) s"
+fi
+
+# Corpora live in the build tree (fuzzing adds files); the committed seeds stay read-only.
+t2=$SECONDS
+tests/fuzz/make_seeds.sh "$build/fuzz-seeds" >/dev/null
+fail=0
+run_harness() { # $1 harness name; prints one summary line, returns non-zero on a finding
+  local h=$1 dir=${1#fuzz_} exe="$build/tests/fuzz/$1"
+  local src="tests/fuzz/$dir" corpus="$build/fuzz-corpus/$dir" findings="$build/fuzz-findings/$dir"
+  local log="$build/fuzz-logs/$h.log"
+  mkdir -p "$corpus" "$findings" "$(dirname "$log")"
+  local inputs=("$corpus")
+  [ -d "$src/seeds" ] && inputs+=("$src/seeds")
+  [ -d "$build/fuzz-seeds/$dir" ] && inputs+=("$build/fuzz-seeds/$dir")
+  local dict=()
+  [ -f "tests/fuzz/$dir.dict" ] && dict=("-dict=tests/fuzz/$dir.dict")
+  # 1. Every past crasher, one by one: each must now run clean.
+  local crashers=()
+  if [ -d "$src/crashers" ]; then
+    while IFS= read -r -d '' f; do crashers+=("$f"); done < <(find "$src/crashers" -type f ! -name '*.md' -print0)
+  fi
+  if [ ${#crashers[@]} -gt 0 ] && ! "$exe" -timeout=20 "${crashers[@]}" >"$log.replay" 2>&1; then
+    echo "ci-extra: $h: a past crasher fails again (log: $log.replay)"
+    return 1
+  fi
+  # 2. Seeds (and the corpus so far) once, then fuzz for $seconds.
+  if ! "$exe" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
+       -print_final_stats=1 -artifact_prefix="$findings/" "${dict[@]}" "${inputs[@]}" >"$log" 2>&1; then
+    echo "ci-extra: $h: FINDING (log: $log; input saved in $findings/)"
+    grep -m3 -E "ERROR|runtime error|INVARIANT|Test unit written" "$log" || true
+    echo "  add the input to tests/fuzz/$dir/crashers/ after fixing the bug"
+    return 1
+  fi
+  local execs rate cov
+  execs=$(grep -m1 -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  rate=$(grep -m1 -o 'stat::average_exec_per_sec: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo '?')
+  echo "ci-extra: $h: ${#crashers[@]} crashers replayed, $execs executions ($rate/s), cov $cov: clean"
+}
+# Run the harnesses $jobs at a time.
+pids=()
+for h in "${harnesses[@]}"; do
+  run_harness "$h" &
+  pids+=($!)
+  if [ ${#pids[@]} -ge "$jobs" ]; then
+    wait "${pids[0]}" || fail=1
+    pids=("${pids[@]:1}")
+  fi
+done
+for p in "${pids[@]}"; do wait "$p" || fail=1; done
+echo "ci-extra: fuzzing took $((SECONDS - t2)) s"
+exit $fail
