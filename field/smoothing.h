@@ -30,12 +30,12 @@ struct SmoothestResult {
 };
 
 /// Globally smoothest N-RoSy (Knöppel et al. 2013): smallest eigenvector of the
-/// generalized problem A u = λ M u by inverse power iteration on one sparse
-/// factorization, stopped when the eigenvalue changes by < 1e-8 (relative; the Rayleigh quotient is
-/// quadratic in the vector error, so the directions are then good to ~1e-4 rad).
-/// Works per mesh (all components at once; each component's values are scaled
-/// independently by the eigen-problem so none is left at zero).
-/// \throws std::runtime_error naming the cause if the factorization fails.
+/// generalized problem A u = λ M u, per mesh component, by LOBPCG with the
+/// two-level preconditioner (started from the coarse eigenvector), stopped at a
+/// residual of 1e-3 λ (eigenvalue error quadratic in it, ~1e-6 λ²/gap); inverse power
+/// iteration on one sparse factorization is the fallback if it stalls.
+/// \throws InputError for a component of zero total area; std::runtime_error
+/// naming the cause if a factorization fails.
 SmoothestResult smoothestField(const TangentFrames &frames, int nSym);
 
 /// Smooth field aligned to a guide (Knöppel 2013, Sec. 6 in spirit): solves

@@ -450,7 +450,6 @@ TEST_F(BadMesh, SeveralComponentsSatisfyPoincareHopfEachOnTheirOwn) {
 TEST_F(BadMesh, NonPlanarPolygonsAreFanTriangulatedWithoutWarnings) {
     // A cube whose top face is a twisted (non-planar) quad, plus one hexagon split.
     WarningCapture capture;
-    LoadReport rep;
     const Mesh m = loads("twist.obj",
                          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1.3\nv 1 1 1\nv 0 1 1.3\n"
                          "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
