@@ -112,17 +112,6 @@ public:
     size_t n_edges() const override { return 0; }
 };
 
-// OpenMesh's streams are process-global; they are switched off once, before
-// the first read, and every problem is reported through rosy::warn instead.
-void silenceOpenMesh() {
-    static std::once_flag once;
-    std::call_once(once, [] {
-        omerr().disable();
-        omlog().disable();
-        omout().disable();
-    });
-}
-
 std::string lower(std::string s) {
     for (char &c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
     return s;
@@ -132,9 +121,9 @@ std::string lower(std::string s) {
 // Readers. Text formats (OFF, OBJ, ASCII PLY, ASCII STL) and binary STL are
 // parsed here in one pass, so every problem is named at its line and column
 // (or triangle number) and nothing is allocated from an unchecked count.
-// OpenMesh reads only binary PLY and binary OFF, after a pre-scan of their
-// headers: its readers reserve and loop from header counts, turn "nan" into a
-// failed stream and drop bad faces with a message on omerr only.
+// Binary OFF and PLY too: OpenMesh's readers reserve and loop from header
+// counts, hang or crash on lying records (tests/fuzz/*/crashers), turn "nan"
+// into a failed stream and drop bad faces with a message on omerr only.
 // Coordinates are rounded to 32-bit floats, as OpenMesh stores them, so every
 // format gives the same positions whichever reader parsed it.
 // ---------------------------------------------------------------------------
@@ -281,7 +270,65 @@ int cornerIndex(const std::string &path, int line, const Token &token, int64_t f
     return int(idx);
 }
 
-/// Parses OFF. Returns false for binary OFF (header checked, left to OpenMesh).
+/// Bounds-checked reading of binary mesh data: every read names the element it
+/// belongs to when the data ends early, so no count in a file can make us read
+/// past its end or loop on garbage.
+class BinaryCursor {
+public:
+    BinaryCursor(const std::string &path, std::string_view data, bool bigEndian)
+        : m_path(path), m_data(data), m_swap(bigEndian) {}
+
+    /// The value of PLY/OFF scalar type `type` (sizes from plyTypeSize) as a double.
+    double read(std::string_view type, const std::string &element) {
+        const int size = typeSize(type);
+        if (m_data.size() - m_pos < size_t(size))
+            throw InputError(FileLoc{m_path}, "the file ends inside " + element + " (byte " +
+                                                  std::to_string(m_pos) + " of the binary data)",
+                             "the file is truncated or its header is wrong");
+        unsigned char b[8];
+        std::memcpy(b, m_data.data() + m_pos, size_t(size));
+        m_pos += size_t(size);
+        if (m_swap) std::reverse(b, b + size);
+        auto as = [&](auto v) {
+            std::memcpy(&v, b, sizeof v);
+            return double(v);
+        };
+        if (type == "char" || type == "int8") return as(int8_t());
+        if (type == "uchar" || type == "uint8") return as(uint8_t());
+        if (type == "short" || type == "int16") return as(int16_t());
+        if (type == "ushort" || type == "uint16") return as(uint16_t());
+        if (type == "int" || type == "int32") return as(int32_t());
+        if (type == "uint" || type == "uint32") return as(uint32_t());
+        if (type == "float" || type == "float32") return as(float());
+        return as(double());
+    }
+    /// A list length or index: must be a whole number in [0, limit].
+    int64_t readCount(std::string_view type, int64_t limit, const std::string &element, const char *what) {
+        const double v = read(type, element);
+        if (!(v >= 0) || v > double(limit) || v != std::floor(v))
+            throw InputError(FileLoc{m_path}, element + ": " + what + " " + number(v) + " is out of range [0, " +
+                                                  std::to_string(limit) + "]",
+                             "the file is damaged or its header is wrong");
+        return int64_t(v);
+    }
+    size_t remaining() const { return m_data.size() - m_pos; }
+
+private:
+    static std::string number(double v) {
+        if (v == std::floor(v) && std::abs(v) < 9e18) return std::to_string(int64_t(v));
+        std::ostringstream os;
+        os << v;
+        return os.str();
+    }
+    static int typeSize(std::string_view t);
+    std::string m_path;
+    std::string_view m_data;
+    size_t m_pos = 0;
+    bool m_swap;
+};
+
+/// Parses OFF, ASCII or binary (Geomview's OFF BINARY: 32-bit little-endian
+/// counts, float coordinates, per-face vertex count, indices and colour count).
 bool readOff(const std::string &path, std::string_view text, const LoadOptions &options, SoupImporter &soup) {
     LineReader reader(text);
     std::string_view line;
@@ -313,7 +360,33 @@ bool readOff(const std::string &path, std::string_view text, const LoadOptions &
                                  std::to_string(counts[1]) + " faces but the file is only " +
                                  std::to_string(text.size()) + " bytes",
                              "the file is truncated or its header is wrong");
-        return false;
+        // Per-vertex extras of the prefixes, in Geomview's order: normal, colour, texture.
+        const std::string_view prefix = magic.substr(0, magic.size() - 3);
+        const int extras = (prefix.find('N') != std::string_view::npos ? 3 : 0) +
+                           (prefix.find('C') != std::string_view::npos ? 4 : 0) +
+                           (prefix.find("ST") != std::string_view::npos ? 2 : 0);
+        BinaryCursor in(path, text.substr(start + 12), false);
+        const int64_t nV = counts[0], nF = counts[1];
+        soup.positions.reserve(size_t(nV));
+        for (int64_t v = 0; v < nV; ++v) {
+            const std::string what = "vertex " + std::to_string(v);
+            Vec3 p;
+            for (int k = 0; k < 3; ++k) p[k] = binaryCoordinate(path, in.read("float", what), what);
+            for (int k = 0; k < extras; ++k) in.read("float", what);
+            soup.positions.push_back(p);
+        }
+        soup.polygons.reserve(size_t(nF));
+        for (int64_t f = 0; f < nF; ++f) {
+            const std::string what = "face " + std::to_string(f);
+            const int64_t n = in.readCount("int", int64_t(in.remaining() / 4), what, "vertex count");
+            std::vector<int> poly(static_cast<size_t>(n));
+            for (int64_t c = 0; c < n; ++c)
+                poly[size_t(c)] = int(in.readCount("int", std::max<int64_t>(nV - 1, 0), what, "vertex index"));
+            const int64_t colours = in.readCount("int", 4, what, "colour component count");
+            for (int64_t c = 0; c < colours; ++c) in.read("float", what);
+            soup.polygons.push_back(std::move(poly));
+        }
+        return true;
     }
     // Counts: on the header line after OFF, or on the first non-blank line after it.
     int countsLine = 1;
@@ -515,6 +588,7 @@ struct PlyProperty {
     std::string name;
     bool list = false;
     int countSize = 0, itemSize = 0; // binary sizes (list: count and item type)
+    std::string countType, itemType; // type names (a scalar has only itemType)
 };
 
 struct PlyElement {
@@ -533,8 +607,10 @@ int plyTypeSize(std::string_view t) {
     return 0;
 }
 
+int BinaryCursor::typeSize(std::string_view t) { return plyTypeSize(t); }
+
 /// Parses a PLY header, checks its counts against the file size, and reads
-/// ASCII data. Returns false for binary data (left to OpenMesh).
+/// its ASCII or binary (either byte order) data.
 bool readPly(const std::string &path, std::string_view text, const LoadOptions &options, SoupImporter &soup) {
     LineReader reader(text);
     std::string_view line;
@@ -542,7 +618,7 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
     if (!reader.next(line) || (tokenize(line, tok), tok.empty()) || tok[0].text != "ply")
         throw InputError(FileLoc{path, 1, 1}, "expected a PLY header ('ply')",
                          "the first line of a .ply file is 'ply'");
-    bool ascii = true, ended = false;
+    bool ascii = true, ended = false, bigEndian = false;
     std::vector<PlyElement> elements;
     while (reader.next(line)) {
         tokenize(line, tok);
@@ -550,9 +626,14 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
         const int ln = reader.lineNumber();
         if (tok[0].text == "format" && tok.size() >= 2) {
             ascii = tok[1].text == "ascii";
+            bigEndian = tok[1].text == "binary_big_endian";
             if (!ascii && tok[1].text != "binary_little_endian" && tok[1].text != "binary_big_endian")
                 throw InputError(FileLoc{path, ln, tok[1].col}, "unknown PLY format '" + std::string(tok[1].text) + "'",
                                  "use ascii, binary_little_endian or binary_big_endian");
+            if (tok.size() != 3 || tok[2].text != "1.0")
+                throw InputError(FileLoc{path, ln, tok.size() >= 3 ? tok[2].col : 1},
+                                 "expected 'format " + std::string(tok[1].text) + " 1.0'",
+                                 "PLY 1.0 is the only version");
         } else if (tok[0].text == "element") {
             PlyElement e;
             if (tok.size() < 3 || !parseInt64(tok[2].text, e.count) || e.count < 0)
@@ -568,7 +649,8 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
             PlyElement &e = elements.back();
             PlyProperty prop;
             if (tok.size() >= 5 && tok[1].text == "list") {
-                prop = {std::string(tok[4].text), true, plyTypeSize(tok[2].text), plyTypeSize(tok[3].text)};
+                prop = {std::string(tok[4].text), true, plyTypeSize(tok[2].text), plyTypeSize(tok[3].text),
+                        std::string(tok[2].text), std::string(tok[3].text)};
                 if (prop.countSize == 0 || prop.itemSize == 0)
                     throw InputError(FileLoc{path, ln, tok[2].col}, "unknown PLY property type",
                                      "use char, uchar, short, ushort, int, uint, float or double");
@@ -576,7 +658,7 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
                 const bool corners = e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
                 e.minBytes += ascii ? (corners ? 8 : 2) : prop.countSize + (corners ? 3 * prop.itemSize : 0);
             } else if (tok.size() == 3) {
-                prop = {std::string(tok[2].text), false, plyTypeSize(tok[1].text), 0};
+                prop = {std::string(tok[2].text), false, plyTypeSize(tok[1].text), 0, {}, std::string(tok[1].text)};
                 if (prop.countSize == 0)
                     throw InputError(FileLoc{path, ln, tok[1].col}, "unknown PLY property type '" +
                                                                          std::string(tok[1].text) + "'",
@@ -605,11 +687,10 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
                              std::to_string(reader.remainingBytes()) + " bytes",
                          "the file is truncated or its header is wrong");
     }
-    if (!ascii) return false;
-
     int64_t nV = -1;
     for (const PlyElement &e : elements)
         if (e.name == "vertex") nV = e.count;
+    BinaryCursor in(path, text.substr(reader.position()), bigEndian);
     for (const PlyElement &e : elements) {
         const auto at = [&](const char *n) {
             for (size_t i = 0; i < e.properties.size(); ++i)
@@ -628,6 +709,34 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
                              "add 'property list uchar int vertex_indices'");
         if (isVertex) soup.positions.reserve(size_t(e.count));
         if (isFace) soup.polygons.reserve(size_t(e.count));
+        if (!ascii) {
+            for (int64_t i = 0; i < e.count; ++i) {
+                const std::string what = e.name + " " + std::to_string(i);
+                Vec3 p = Vec3::Zero();
+                for (size_t k = 0; k < e.properties.size(); ++k) {
+                    const PlyProperty &prop = e.properties[k];
+                    if (!prop.list) {
+                        const double x = in.read(prop.itemType, what);
+                        if (isVertex && (k == ix || k == iy || k == iz))
+                            p[k == ix ? 0 : k == iy ? 1 : 2] = binaryCoordinate(path, x, what);
+                        continue;
+                    }
+                    const int64_t n = in.readCount(prop.countType, int64_t(in.remaining() / size_t(prop.itemSize)),
+                                                   what, "list length");
+                    if (isFace && k == iFace) {
+                        std::vector<int> poly(static_cast<size_t>(n));
+                        for (int64_t c = 0; c < n; ++c)
+                            poly[size_t(c)] = int(in.readCount(prop.itemType, std::max<int64_t>(nV - 1, 0), what,
+                                                               "vertex index (indices in PLY files start at 0)"));
+                        soup.polygons.push_back(std::move(poly));
+                    } else {
+                        for (int64_t c = 0; c < n; ++c) in.read(prop.itemType, what);
+                    }
+                }
+                if (isVertex) soup.positions.push_back(p);
+            }
+            continue;
+        }
         for (int64_t i = 0; i < e.count; ++i) {
             do {
                 if (!reader.next(line))
@@ -1099,39 +1208,10 @@ Mesh loadMesh(const std::string &path, const LoadOptions &options, LoadReport *r
         throw InputError(FileLoc{path}, "the file is empty", "export the mesh again");
 
     SoupImporter soup;
-    bool parsed = true;
-    if (ext == ".off") parsed = readOff(path, text, options, soup);
+    if (ext == ".off") readOff(path, text, options, soup);
     else if (ext == ".obj") readObj(path, text, options, soup);
     else if (ext == ".stl") readStl(path, text, options, soup);
-    else parsed = readPly(path, text, options, soup);
-
-    if (!parsed) {
-        // Binary PLY and binary OFF, headers already checked against the file size.
-        silenceOpenMesh();
-        OpenMesh::IO::Options omOptions;
-        bool ok;
-        {
-            // The IOManager singleton and its readers keep per-read state.
-            static std::mutex readMutex;
-            std::lock_guard<std::mutex> lock(readMutex);
-            if (bom) {
-                std::istringstream in{std::string(text)};
-                ok = OpenMesh::IO::IOManager().read(in, ext.substr(1), soup, omOptions);
-            } else {
-                ok = OpenMesh::IO::IOManager().read(path, soup, omOptions);
-            }
-        }
-        if (!ok)
-            throw InputError(FileLoc{path}, "could not be parsed as a binary " + ext.substr(1) + " mesh",
-                             "the file is damaged, truncated or in another format");
-        for (size_t p = 0; p < soup.polygons.size(); ++p)
-            if (soup.polygons[p].empty())
-                throw InputError(FileLoc{path}, "face " + std::to_string(p) + " could not be parsed",
-                                 "the file is damaged");
-        for (size_t v = 0; v < soup.positions.size(); ++v)
-            for (int k = 0; k < 3; ++k)
-                binaryCoordinate(path, soup.positions[v][k], "vertex " + std::to_string(v));
-    }
+    else readPly(path, text, options, soup);
     return repairAndBuild(std::move(soup.positions), soup.polygons, path, options, report);
 }
 

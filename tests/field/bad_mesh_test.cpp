@@ -530,3 +530,70 @@ TEST(SolverFailure, NamesTheCause) {
         EXPECT_NE(std::string(e.what()).find("singular"), std::string::npos) << e.what();
     }
 }
+
+// Binary OFF and PLY are read by our own bounds-checked readers (OpenMesh's
+// looped or crashed on the fuzzer's findings in tests/fuzz/*/crashers/).
+TEST_F(BadMesh, BinaryOffAndBigEndianPlyReadLikeTheirAsciiSpelling) {
+    // Geomview binary OFF of the tetrahedron: little-endian 32-bit counts, float
+    // coordinates, per face its vertex count, indices and colour-component count.
+    std::string off = "OFF BINARY\n";
+    const uint32_t counts[3] = {4, 4, 0};
+    put(off, counts, 12);
+    const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (const auto &v : p) put(off, v, 12);
+    const int32_t f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto &t : f) {
+        const int32_t n = 3, colours = 0;
+        put(off, &n, 4);
+        put(off, t, 12);
+        put(off, &colours, 4);
+    }
+    expectSameMesh(loads("bin.off", off), loads("ascii.off", offTetra()));
+
+    // The same PLY in both byte orders: every value's bytes reversed by hand.
+    auto be = [](std::string &s, const void *data, size_t n) {
+        const char *c = static_cast<const char *>(data);
+        for (size_t i = n; i-- > 0;) s.push_back(c[i]);
+    };
+    std::string ply = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto &v : p)
+        for (float c : v) be(ply, &c, 4);
+    for (const auto &t : f) {
+        const uint8_t n = 3;
+        put(ply, &n, 1);
+        for (int32_t i : t) be(ply, &i, 4);
+    }
+    expectSameMesh(loads("be.ply", ply), loads("ascii.ply", plyTetra()));
+    expectSameMesh(loads("le.ply", binaryPly()), loads("ascii2.ply", plyTetra()));
+}
+
+TEST_F(BadMesh, BinaryRecordsThatLieAreRejectedNotFollowed) {
+    // A face claiming 2^31 - 1 corners in a file of a few bytes, and an index past the vertices.
+    std::string off = "OFF BINARY\n";
+    const uint32_t counts[3] = {4, 1, 0};
+    put(off, counts, 12);
+    const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (const auto &v : p) put(off, v, 12);
+    std::string huge = off;
+    const int32_t big = 2147483647, zero = 0;
+    put(huge, &big, 4);
+    for (int k = 0; k < 4; ++k) put(huge, &zero, 4); // enough bytes for the header's size check
+    rejects("huge.off", huge, "", "vertex count 2147483647 is out of range");
+    std::string past = off;
+    const int32_t face[4] = {3, 0, 1, 9};
+    put(past, face, 16);
+    put(past, &zero, 4);
+    rejects("past.off", past, "", "vertex index 9 is out of range [0, 3]");
+    // A PLY version other than 1.0 is named at its column.
+    std::string ply = binaryPly();
+    ply.replace(ply.find("1.0"), 3, "2.0");
+    rejects("v2.ply", ply, ":2:29", "format binary_little_endian 1.0");
+    // Every committed fuzzer finding for these readers is now a clean rejection.
+    for (const char *dir : {"mesh_off", "mesh_ply"})
+        for (const auto &entry : fs::directory_iterator(fs::path(ROSY_SOURCE_DIR) / "tests/fuzz" / dir / "crashers")) {
+            if (entry.path().extension() == ".md") continue;
+            SCOPED_TRACE(entry.path().string());
+            EXPECT_THROW(loadMesh(entry.path().string()), InputError);
+        }
+}
