@@ -1,6 +1,8 @@
 // End-to-end: run the rosyhatch binary on tiny scenes and check exit codes,
 // messages and the written files.
 
+#include "cli_util.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -20,26 +22,11 @@ fs::path workDir() {
     return dir;
 }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct CliRun {
-    int exitCode;
-    std::string out, err;
-};
+using rosy::test::CliRun;
+using rosy::test::slurp;
 
 /// Runs rosyhatch with `args` (already shell-quoted) from the work folder.
-CliRun run(const std::string &args, const std::string &tag) {
-    fs::path dir = workDir();
-    fs::path out = dir / (tag + ".stdout"), err = dir / (tag + ".stderr");
-    std::string cmd = "cd '" + dir.string() + "' && '" + kBinary + "' " + args + " >'" + out.string() +
-                      "' 2>'" + err.string() + "'";
-    int status = std::system(cmd.c_str());
-    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return {code, slurp(out), slurp(err)};
-}
+CliRun run(const std::string &args, const std::string &tag) { return rosy::test::runRosyhatch(workDir(), args, tag); }
 
 fs::path writeScene(const std::string &name, const std::string &text) {
     fs::path p = workDir() / name;

@@ -4,6 +4,8 @@
 
 #include "renderer/image.h"
 
+#include "cli_util.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -24,24 +26,10 @@ fs::path workDir() {
     return dir;
 }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using rosy::test::CliRun;
+using rosy::test::slurp;
 
-struct CliRun {
-    int exitCode;
-    std::string out, err;
-};
-
-CliRun run(const std::string &args, const std::string &tag) {
-    const fs::path dir = workDir();
-    const fs::path out = dir / (tag + ".stdout"), err = dir / (tag + ".stderr");
-    const std::string cmd = "cd '" + dir.string() + "' && '" + kBinary + "' " + args + " >'" + out.string() +
-                            "' 2>'" + err.string() + "'";
-    const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
+CliRun run(const std::string &args, const std::string &tag) { return rosy::test::runRosyhatch(workDir(), args, tag); }
 
 /// 96 x 64 white paper with 11 black vertical lines 2 px wide every 6 px from x0;
 /// the right half optionally darkened to linear `grey`.

@@ -5,6 +5,8 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include "cli_util.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,25 +31,11 @@ fs::path workDir() {
     return dir;
 }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-struct CliRun {
-    int exitCode;
-    std::string out, err;
-};
+using rosy::test::CliRun;
+using rosy::test::slurp;
 
 /// Runs rosyhatch with `args` (already shell-quoted) from the work folder.
-CliRun run(const std::string &args, const std::string &tag) {
-    const fs::path dir = workDir();
-    const fs::path out = dir / (tag + ".stdout"), err = dir / (tag + ".stderr");
-    const std::string cmd = "cd '" + dir.string() + "' && '" + kBinary + "' " + args + " >'" + out.string() +
-                            "' 2>'" + err.string() + "'";
-    const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
+CliRun run(const std::string &args, const std::string &tag) { return rosy::test::runRosyhatch(workDir(), args, tag); }
 
 fs::path writeScene(const std::string &name, const std::string &text) {
     const fs::path p = workDir() / name;

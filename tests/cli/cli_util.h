@@ -1,0 +1,37 @@
+#pragma once
+/// \file cli_util.h
+/// Running the rosyhatch binary from the end-to-end tests in this folder.
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <sys/wait.h>
+
+namespace rosy::test {
+
+/// The whole content of a file ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path &p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Exit code (-1 if killed by a signal) and both output streams of one run.
+struct CliRun {
+    int exitCode;
+    std::string out, err;
+};
+
+/// Runs the rosyhatch binary of this build with `args` (already shell-quoted)
+/// from `dir`; stdout and stderr are kept there as TAG.stdout and TAG.stderr.
+inline CliRun runRosyhatch(const std::filesystem::path &dir, const std::string &args, const std::string &tag) {
+    const std::string binary = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
+    const std::filesystem::path out = dir / (tag + ".stdout"), err = dir / (tag + ".stderr");
+    const std::string cmd = "cd '" + dir.string() + "' && '" + binary + "' " + args + " >'" + out.string() + "' 2>'" +
+                            err.string() + "'";
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+} // namespace rosy::test
