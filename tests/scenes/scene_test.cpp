@@ -5,6 +5,8 @@
 #include "field/primitives.h"
 #include "scenes/scene.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -39,12 +41,8 @@ std::string errorOf(const std::string &text) {
     return {};
 }
 
-::testing::AssertionResult startsWith(const std::string &s, const std::string &prefix) {
-    if (s.rfind(prefix, 0) == 0) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << "'" << s << "' does not start with '" << prefix << "'";
-}
-
-bool contains(const std::string &s, const std::string &part) { return s.find(part) != std::string::npos; }
+using rosy::test::contains;
+using rosy::test::startsWith;
 
 } // namespace
 
