@@ -165,7 +165,7 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
                     rhs[freeId[v]] += g * d.real() * options.guide->u[v];
                     d *= 1.0 + g;
                 }
-        const Eigen::VectorXcd x = solveHermitianSystem(frames, nSym, freeId, K, rhs);
+        const Eigen::VectorXcd x = solveHermitianSystem(frames, nSym, freeId, K, rhs, {}, options.solverTolerance);
         for (int v = 0; v < nV; ++v)
             if (freeId[v] >= 0) result[v] = x[freeId[v]];
         return result;
@@ -228,7 +228,7 @@ Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
     std::copy(outer.begin(), outer.end(), K.outerIndexPtr());
     std::copy(inner.begin(), inner.begin() + nnz, K.innerIndexPtr());
     std::copy(value.begin(), value.begin() + nnz, K.valuePtr());
-    const Eigen::VectorXcd x = solveGeneralSystem(frames, nSym, freeId, K, rhs);
+    const Eigen::VectorXcd x = solveGeneralSystem(frames, nSym, freeId, K, rhs, {}, options.solverTolerance);
     for (int v = 0; v < nV; ++v)
         if (freeId[v] >= 0) result[v] = x[freeId[v]];
     return result;

@@ -15,6 +15,7 @@
 
 #include "field/laplacian.h"
 #include "field/rosy.h"
+#include "field/sparse_solver.h"
 
 #include <string>
 #include <vector>
@@ -49,6 +50,8 @@ struct DesignOptions {
     /// Elements farther than this fraction of the bounding-box diagonal from the
     /// surface are rejected as "off the mesh".
     double maxSnapDistance = 0.05;
+    /// Relative residual of the relaxation solve (see kRelaxationTolerance).
+    double solverTolerance = kRelaxationTolerance;
 };
 
 /// The Dirichlet values an element set fixes: vertex ids and representation vectors

@@ -50,6 +50,8 @@ public:
 
     /// z = M⁻¹ r.
     void apply(const Eigen::VectorXcd &r, Eigen::VectorXcd &z) const;
+    /// z = M⁻¹ r and rz = ⟨r, z⟩ in one pass (block sums in a fixed order).
+    void applyWithDot(const Eigen::VectorXcd &r, Eigen::VectorXcd &z, Complex &rz) const;
     int coarseSize() const;
     /// Coarse → fine: x_i = phase_i · xc[aggregate(i)].
     Eigen::VectorXcd prolong(const Eigen::VectorXcd &xc) const;
@@ -98,20 +100,19 @@ Eigen::VectorXcd solveTwoLevelBicgstab(const TangentFrames &frames, int nSym, co
                                        int maxIterations = 2000, PcgReport *report = nullptr);
 
 /// Solves a Hermitian positive definite field system: two-level PCG to a
-/// relative residual of 1e-6 (singular faces identical to the direct solve on
-/// bunny00 already at 1e-4), falling back to a sparse factorization if it
-/// does not converge. K must hold both triangles.
+/// relative residual of `tolerance`, falling back to a sparse factorization if
+/// it does not converge. K must hold both triangles.
 Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                                       const SparseMatrixC &K, const Eigen::VectorXcd &b,
-                                      const Eigen::VectorXcd &guess = {});
+                                      const Eigen::VectorXcd &guess = {}, double tolerance = kFieldTolerance);
 
 /// Solves a general field system (the paper's mean-value relaxation); below
 /// 4096 unknowns by UMFPACK's LU (exact, and faster there), otherwise two-level
-/// BiCGSTAB to 1e-6 (27 iterations on bunny00; restarted GMRES needed 37 and
-/// spent more on orthogonalisation than UMFPACK on the LU), falling back to
-/// UMFPACK's LU if it does not converge.
+/// BiCGSTAB to `tolerance` (27 iterations to 1e-6 on bunny00; restarted GMRES
+/// needed 37 and spent more on orthogonalisation than UMFPACK on the LU),
+/// falling back to UMFPACK's LU if it does not converge.
 Eigen::VectorXcd solveGeneralSystem(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                                     const SparseMatrixRowC &K, const Eigen::VectorXcd &b,
-                                    const Eigen::VectorXcd &guess = {});
+                                    const Eigen::VectorXcd &guess = {}, double tolerance = kRelaxationTolerance);
 
 } // namespace rosy::field

@@ -282,7 +282,8 @@ SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
 }
 
 RosyField alignedField(const TangentFrames &frames, const RosyField &guide, double smoothingLength,
-                       const std::vector<char> &fixed, const Eigen::VectorXcd &fixedValues) {
+                       const std::vector<char> &fixed, const Eigen::VectorXcd &fixedValues,
+                       std::optional<double> tolerance) {
     const Mesh &mesh = frames.mesh();
     const int n = mesh.nVertices();
     ROSY_CHECK(smoothingLength > 0);
@@ -316,7 +317,9 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
     Eigen::VectorXcd guess(nFree);
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) guess[freeId[v]] = guide.u[v];
-    const Eigen::VectorXcd x = solveHermitianSystem(frames, guide.nSym, freeId, K, rhs, guess);
+    const Eigen::VectorXcd x = solveHermitianSystem(
+        frames, guide.nSym, freeId, K, rhs, guess,
+        tolerance.value_or(nFree < n ? kRelaxationTolerance : kFieldTolerance));
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) out.u[v] = x[freeId[v]];
     return out;
