@@ -296,4 +296,17 @@ std::vector<VertexCurvature> computeCurvature(const Mesh &mesh, const CurvatureO
     return result;
 }
 
+double curvatureAnisotropy(const std::vector<VertexCurvature> &curvature) {
+    // Sequential sums in vertex order: the same bits for any thread count.
+    double anisotropy = 0, magnitude = 0;
+    for (const VertexCurvature &c : curvature) {
+        anisotropy += c.area * std::abs(c.kMax - c.kMin);
+        magnitude += c.area * (std::abs(c.kMax) + std::abs(c.kMin));
+    }
+    // A plane (0 / 0) has no direction either; never NaN.
+    if (!(magnitude > 0)) return 0;
+    const double ratio = anisotropy / magnitude;
+    return ratio >= 0 ? std::min(ratio, 1.0) : 0; // an overflowed inf / inf counts as none
+}
+
 } // namespace rosy::field

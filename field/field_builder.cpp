@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace rosy::field {
 namespace {
@@ -76,10 +78,19 @@ FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec) {
         out.timingsMs["curvature"] = msSince(t0);
         t0 = Clock::now();
         RosyField guide = curvatureField(frames, out.curvature, spec.nSym);
-        if (guide.u.size() > 0 && guide.u.cwiseAbs().maxCoeff() == 0) {
+        // Planar or (nearly) umbilic: the principal directions are rounding or
+        // discretisation noise, which curvatureField would normalise to full strength.
+        const double anisotropy = curvatureAnisotropy(out.curvature);
+        if (guide.u.size() > 0 &&
+            (anisotropy < kMinCurvatureAnisotropy || guide.u.cwiseAbs().maxCoeff() == 0)) {
+            char measured[64];
+            std::snprintf(measured, sizeof measured, "%.2g, below %.2g", anisotropy,
+                          kMinCurvatureAnisotropy);
             warn(mesh.name(), "no-curvature-direction",
-                 "the surface has no curvature anisotropy (planar or umbilic), so curvature "
-                 "gives no direction; using the globally smoothest field instead");
+                 std::string("the surface has almost no curvature anisotropy (planar or umbilic: "
+                             "area-weighted |k1 - k2| / (|k1| + |k2|) = ") +
+                     measured + "), so curvature gives no direction; using the globally smoothest "
+                     "field instead (or choose `source: smoothest` or `source: design`)");
             out.field = smoothestField(frames, spec.nSym).field;
         } else if (!spec.elements.empty()) {
             // Elements are Dirichlet constraints; the curvature field guides the rest.

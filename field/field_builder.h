@@ -57,9 +57,10 @@ RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCu
                          int nSym);
 
 /// Builds the field. \throws InputError for N outside [1, kMaxSymmetry], bad
-/// design elements, or a design source without elements. A mesh without any
-/// curvature anisotropy (planar, or a perfect sphere) falls back to the smoothest
-/// field with a warning.
+/// design elements, or a design source without elements. With the curvature source,
+/// a mesh whose curvatureAnisotropy() is below kMinCurvatureAnisotropy (planar or
+/// nearly umbilic, e.g. a sphere: its principal directions are noise) falls back to
+/// the smoothest field with a `no-curvature-direction` warning.
 FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec);
 
 /// Checks N, throwing InputError at `where` when it is out of range.

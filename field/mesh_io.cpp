@@ -692,6 +692,12 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
         if (e.name == "vertex") nV = e.count;
     BinaryCursor in(path, text.substr(reader.position()), bigEndian);
     for (const PlyElement &e : elements) {
+        // Any other element without properties holds no data in either encoding (its
+        // ASCII lines would be empty, and blank lines are skipped), so it is skipped,
+        // not iterated: the size check above cannot bound its count (0 bytes each), and
+        // counting to 10^11 was the fuzzer's PLY hang (tests/fuzz/mesh_ply/crashers).
+        // A vertex or face element without properties is rejected just below.
+        if (e.properties.empty() && e.name != "vertex" && e.name != "face") continue;
         const auto at = [&](const char *n) {
             for (size_t i = 0; i < e.properties.size(); ++i)
                 if (e.properties[i].name == n) return i;

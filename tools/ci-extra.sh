@@ -35,8 +35,22 @@ echo "ci-extra: sanitizer + fuzzer build took $((SECONDS - t0)) s"
 
 if [ "$what" = all ]; then
   t1=$SECONDS
-  (cd "$build" && ctest --output-on-failure -j "$jobs")
+  set +e
+  (cd "$build" && ctest --output-on-failure -j "$jobs") 2>&1 | tee "$build/ctest.log"
+  rc=${PIPESTATUS[0]}
+  set -e
+  # LeakSanitizer's own stop-the-world tracer sometimes segfaults at process exit
+  # ("Tracer caught signal 11 ... LeakSanitizer has encountered a fatal error", LLVM 14;
+  # google/sanitizers#1353): 3 of 404 tests (CLI renders) on the loaded 2-core machine,
+  # not reproducible alone, never a leak report. Only then are the failed tests run once
+  # more, without the leak check (ASan and UBSan stay on), and they must pass.
+  if [ "$rc" -ne 0 ] && grep -q "LeakSanitizer has encountered a fatal error" "$build/ctest.log"; then
+    echo "ci-extra: LeakSanitizer's tracer crashed (not a leak report); re-running the failed tests once"
+    (cd "$build" && ASAN_OPTIONS="${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0}" \
+       ctest --output-on-failure --rerun-failed) && rc=0
+  fi
   echo "ci-extra: sanitized test suite took $((SECONDS - t1)) s"
+  [ "$rc" -eq 0 ] || exit "$rc"
 fi
 
 # Corpora live in the build tree (fuzzing adds files); the committed seeds stay read-only.
@@ -58,23 +72,27 @@ run_harness() { # $1 harness name; prints one summary line, returns non-zero on 
   if [ -d "$src/crashers" ]; then
     while IFS= read -r -d '' f; do crashers+=("$f"); done < <(find "$src/crashers" -type f ! -name '*.md' -print0)
   fi
-  if [ ${#crashers[@]} -gt 0 ] && ! "$exe" -timeout=20 "${crashers[@]}" >"$log.replay" 2>&1; then
+  # `timeout` guards the guard: when libFuzzer hits -rss_limit_mb under ASan it first prints
+  # a heap profile, which took minutes on a 2 GB heap (yaml-cpp's LoadAll loop on ",").
+  if [ ${#crashers[@]} -gt 0 ] &&
+     ! timeout -k 10 $((30 * ${#crashers[@]} + 60)) "$exe" -timeout=20 -rss_limit_mb=2048 "${crashers[@]}" >"$log.replay" 2>&1; then
     echo "ci-extra: $h: a past crasher fails again (log: $log.replay)"
     return 1
   fi
   # 2. Seeds (and the corpus so far) once, then fuzz for $seconds.
-  if ! "$exe" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
+  if ! timeout -k 10 $((seconds + 120)) "$exe" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
        -print_final_stats=1 -artifact_prefix="$findings/" "${dict[@]}" "${inputs[@]}" >"$log" 2>&1; then
     echo "ci-extra: $h: FINDING (log: $log; input saved in $findings/)"
-    grep -m3 -E "ERROR|runtime error|INVARIANT|Test unit written" "$log" || true
+    grep -m3 -E "ERROR|runtime error|INVARIANT|Test unit written|ALARM" "$log" || true
     echo "  add the input to tests/fuzz/$dir/crashers/ after fixing the bug"
     return 1
   fi
-  local execs rate cov
-  execs=$(grep -m1 -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
-  rate=$(grep -m1 -o 'stat::average_exec_per_sec: [0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  local execs rate cov ft
+  execs=$(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  rate=$(grep -m1 -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo '?')
-  echo "ci-extra: $h: ${#crashers[@]} crashers replayed, $execs executions ($rate/s), cov $cov: clean"
+  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo '?')
+  echo "ci-extra: $h: ${#crashers[@]} crashers replayed, $execs executions ($rate/s), cov $cov, ft $ft: clean"
 }
 # Run the harnesses $jobs at a time.
 pids=()

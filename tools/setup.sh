@@ -3,7 +3,8 @@
 # configures and builds, then either renders the default scene or runs every test.
 #
 #   tools/setup.sh render   # set-up + render scenes/bunny.yaml, prints the image path
-#   tools/setup.sh test     # set-up + the whole test suite (ctest)
+#   tools/setup.sh test     # set-up + the whole test suite (ctest), then the sanitizer
+#                           # and fuzzing phase (tools/ci-extra.sh; ROSY_CI_EXTRA=0 skips it)
 #
 # Idempotent: a second run with nothing changed only checks and re-runs the last step.
 set -euo pipefail
@@ -53,8 +54,10 @@ case "$mode" in
     ;;
   test)
     (cd "$build" && ctest --output-on-failure -j "$jobs")
-    # ASan + UBSan test suite, fuzz replay and 60 s per harness: opt-in with ROSY_CI_EXTRA=1 (not yet in CI).
-    [ "${ROSY_CI_EXTRA:-0}" = 0 ] || tools/ci-extra.sh
+    # Then the ASan + UBSan tree: the test suite under the sanitizers, every past fuzz
+    # crasher and seed replayed, 60 s of fuzzing per harness (tools/ci-extra.sh; part of
+    # CI). ROSY_CI_EXTRA=0 skips it for a quick local run.
+    [ "${ROSY_CI_EXTRA:-1}" = 0 ] || tools/ci-extra.sh
     ;;
   *)
     echo "usage: tools/setup.sh render|test" >&2
