@@ -16,6 +16,7 @@
 #include "field/separatrices.h"
 #include "field/singularities.h"
 #include "field/smoothing.h"
+#include "renderer/image_io.h"
 #include "renderer/embree_scene.h"
 #include "renderer/field_picture.h"
 #include "renderer/illustration.h"
@@ -305,6 +306,7 @@ void runCompare(const CompareOptions &opt) {
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(desc.threads.value));
     checkWritable(opt.outputPath);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
+    renderer::preloadImageIo(); // OpenImageIO maps while the fields are built (renderer/image_io.h)
 
     scenes::Scene scene = timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
     const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });

@@ -15,6 +15,7 @@
 #include "field/mesh_stats.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
+#include "renderer/image_io.h"
 #include "renderer/field_picture.h"
 #include "renderer/image.h"
 #include "scenes/scene.h"
@@ -260,6 +261,8 @@ void runField(const FieldOptions &opt) {
     if (!opt.imageBeforePath.empty() && edits.empty())
         throw InputError(FileLoc{"--image-before"}, "there are no edits to show the field before",
                          "give --cancel, --move or --cancel-near (or a scene with field edits), or use --image only");
+    // OpenImageIO maps while the field is built (renderer/image_io.h).
+    if (!opt.imagePath.empty() || !opt.imageBeforePath.empty()) renderer::preloadImageIo();
 
     std::vector<std::pair<std::string, double>> ms;
     auto t0 = Clock::now(), tStart = t0;

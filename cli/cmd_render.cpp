@@ -9,6 +9,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/gbuffer.h"
 #include "renderer/image.h"
+#include "renderer/image_io.h"
 #include "renderer/shading.h"
 #include "scenes/scene.h"
 #include "core/diagnostics.h"
@@ -168,6 +169,11 @@ void runRender(const RenderOptions &opt) {
         if (desc.mesh.file) checkNotAnInput(out, desc.mesh.file->value, "input mesh");
         if (!desc.style.presetPath.empty()) checkNotAnInput(out, desc.style.presetPath, "style preset");
     }
+
+    // Image files go out through OpenImageIO, a module of ~260 shared libraries:
+    // map it on a background thread while the mesh loads and the field is solved
+    // (renderer/image_io.h). The SVG writer does not need it.
+    if (!rasterPaths.empty()) renderer::preloadImageIo();
 
     scenes::Scene scene =
         timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });

@@ -42,6 +42,10 @@ public:
     void intersect8(const Ray *rays, int count, Hit *hits) const;
     /// True if anything lies on the ray with t in [ray.tMin, ray.tMax].
     bool occluded(const Ray &ray) const;
+    /// occluded() of `count` rays at once through Embree's stream call
+    /// (rtcOccluded1M, incoherent rays such as ambient-occlusion samples):
+    /// out[k] == occluded(rays[k]).
+    void occludedMany(const Ray *rays, int count, bool *out) const;
     /// Radius of the mesh's bounding sphere: the scale for ray offsets (world units).
     double sceneRadius() const { return m_sceneRadius; }
 

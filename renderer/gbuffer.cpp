@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "renderer/large_buffer.h"
 
 namespace rosy::renderer {
 
@@ -28,11 +29,11 @@ GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Came
     g.height = camera.height();
     g.mesh = &mesh;
     const size_t n = g.nPixels();
-    // Sized but not filled here: every pixel is written once in the parallel loop
-    // below (misses too), so the first touch is spread over the threads.
-    g.faceId.resize(n);
-    g.barycentric.resize(n);
-    g.depth.resize(n);
+    // Huge pages where the planes span them (large_buffer.h); every pixel is
+    // written again in the parallel loop below, misses too.
+    assignLarge(g.faceId, n, -1);
+    assignLarge(g.barycentric, n, Eigen::Vector2f(Eigen::Vector2f::Zero()));
+    assignLarge(g.depth, n, 0.0f);
 
     // Vertex normals once, not three times per pixel.
     auto normals = std::make_shared<std::vector<Vec3>>(size_t(mesh.nVertices()));

@@ -1,4 +1,5 @@
 #include "renderer/illustration.h"
+#include "renderer/large_buffer.h"
 
 #include "core/error.h"
 #include "core/progress.h"
@@ -36,7 +37,7 @@ Illustration renderIllustration(const IllustrationInput &in) {
 
     // Tone → target ink density through the style's tone curve.
     const std::vector<double> tone = shadeLambert(out.gbuffer, *in.scene, *in.mesh, camera, in.lights, in.shading);
-    out.targetDensity.assign(out.gbuffer.nPixels(), 0.0f);
+    assignLarge(out.targetDensity, out.gbuffer.nPixels(), 0.0f);
     const double gamma = in.style.hatch.toneGamma;
     // The curve saturates at the darkest coverage the style can draw: asking for
     // more would leave the whole shadow side short of its target by construction.

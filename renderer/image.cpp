@@ -1,9 +1,10 @@
 #include "renderer/image.h"
+#include "renderer/large_buffer.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 
-#include <OpenImageIO/imageio.h>
+#include "renderer/image_io.h"
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +18,7 @@ Image::Image(int w, int h, std::vector<std::string> names)
     : width(w), height(h), nChannels(int(names.size())), channelNames(std::move(names)) {
     ROSY_CHECK_GE(width, 0);
     ROSY_CHECK_GE(height, 0);
-    data.assign(size_t(width) * size_t(height) * size_t(nChannels), 0.0f);
+    assignLarge(data, size_t(width) * size_t(height) * size_t(nChannels), 0.0f);
 }
 
 const char *supportedImageExtensions() { return ".png .exr .tif .tiff .jpg .jpeg"; }
@@ -120,25 +121,30 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
     if (image.nChannels < 1) throw InputError(FileLoc{path}, "cannot write an image without channels");
 
     int alpha = alphaIndex(image);
-    OIIO::TypeDesc fileType = sixteenBit ? OIIO::TypeDesc::UINT16
-                              : eightBit ? OIIO::TypeDesc::UINT8
-                              : (options.exrHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-    OIIO::ImageSpec spec(image.width, image.height, image.nChannels, fileType);
-    spec.channelnames = image.channelNames;
-    spec.alpha_channel = alpha;
+    ImageFileSpec spec;
+    spec.format = oiioFormatName(format);
+    spec.width = image.width;
+    spec.height = image.height;
+    spec.nChannels = image.nChannels;
+    spec.fileType = sixteenBit ? PixelType::UInt16
+                    : eightBit ? PixelType::UInt8
+                               : (options.exrHalf ? PixelType::Half : PixelType::Float);
+    spec.channelNames = image.channelNames;
+    spec.alphaChannel = alpha;
+    using A = ImageAttribute;
     // Our alpha is straight (not premultiplied): tell the writers not to divide by it.
-    if (alpha >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (alpha >= 0) spec.attributes.push_back(A::integer("oiio:UnassociatedAlpha", 1));
     // An empty DateTime stops the EXR and TIFF writers stamping the current time:
     // the same render must give the same bytes on every run.
-    spec.attribute("DateTime", "");
+    spec.attributes.push_back(A::text("DateTime", ""));
     if (eightBit) {
-        spec.attribute("oiio:ColorSpace", "sRGB");
-        if (format == Format::Jpeg) spec.attribute("CompressionQuality", 95);
+        spec.attributes.push_back(A::text("oiio:ColorSpace", "sRGB"));
+        if (format == Format::Jpeg) spec.attributes.push_back(A::integer("CompressionQuality", 95));
     } else {
-        spec.attribute("oiio:ColorSpace", "Linear");
-        spec.attribute("compression", "zip");
+        spec.attributes.push_back(A::text("oiio:ColorSpace", "Linear"));
+        spec.attributes.push_back(A::text("compression", "zip"));
     }
-    for (const auto &[name, value] : options.floatAttributes) spec.attribute(name, value);
+    for (const auto &[name, value] : options.floatAttributes) spec.attributes.push_back(A::real(name, value));
 
     // Encode once, outside the writer: exact rounding of our own sRGB curve rather
     // than whatever conversion the format plugin would apply.
@@ -168,19 +174,13 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
             if (!std::isfinite(v)) v = 0.0f;
     }
 
+    const ImageIo &io = imageIo(); // before the temporary exists: a missing module leaves nothing behind
     writeAtomically(path, [&](const std::string &tmpPath) {
-        auto out = OIIO::ImageOutput::create(oiioFormatName(format));
-        if (!out) throw IoError(path, "OpenImageIO has no writer: " + OIIO::geterror());
-        if (!out->open(tmpPath, spec)) throw IoError(path, out->geterror());
-        bool ok = sixteenBit ? out->write_image(OIIO::TypeDesc::UINT16, words.data())
-                  : eightBit ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
-                             : out->write_image(OIIO::TypeDesc::FLOAT, floats.data());
-        if (!ok) {
-            std::string message = out->geterror();
-            out->close();
-            throw IoError(path, message);
-        }
-        if (!out->close()) throw IoError(path, out->geterror());
+        std::string error;
+        const bool ok = sixteenBit ? io.write(tmpPath, spec, PixelType::UInt16, words.data(), error)
+                        : eightBit ? io.write(tmpPath, spec, PixelType::UInt8, bytes.data(), error)
+                                   : io.write(tmpPath, spec, PixelType::Float, floats.data(), error);
+        if (!ok) throw IoError(path, error);
     });
 }
 

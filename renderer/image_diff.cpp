@@ -4,7 +4,7 @@
 #include "core/parallel.h"
 #include "renderer/raster.h"
 
-#include <OpenImageIO/imageio.h>
+#include "renderer/image_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -225,40 +225,37 @@ std::vector<float> gaussianBlur(const std::vector<float> &values, int width, int
 DiffInput readDiffInput(const std::string &path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path, "no such file (or not a regular file)");
-    auto in = OIIO::ImageInput::open(path);
+    std::string error;
+    std::unique_ptr<ImageFileReader> in = imageIo().open(path, error);
     if (!in)
-        throw InputError(FileLoc{path}, "not an image OpenImageIO can read: " + OIIO::geterror(),
+        throw InputError(FileLoc{path}, "not an image OpenImageIO can read: " + error,
                          "compare two images, e.g. the .png or .exr written by rosyhatch render");
-    const OIIO::ImageSpec &spec = in->spec();
-    if (spec.width < 1 || spec.height < 1 || spec.depth > 1 || spec.nchannels < 1)
+    const ImageFileHeader &spec = in->header();
+    if (spec.width < 1 || spec.height < 1 || spec.depth > 1 || spec.nChannels < 1)
         throw InputError(FileLoc{path}, "not a 2D image with pixels");
     // Refuse absurd headers before allocating (a 16-bit PNG may claim 2^31 pixels).
-    const double nValues = double(spec.width) * double(spec.height) * double(spec.nchannels);
+    const double nValues = double(spec.width) * double(spec.height) * double(spec.nChannels);
     if (nValues > double(1u << 30))
         throw InputError(FileLoc{path}, "image too large to compare (" + std::to_string(spec.width) + "x" +
-                                            std::to_string(spec.height) + "x" + std::to_string(spec.nchannels) + ")",
+                                            std::to_string(spec.height) + "x" + std::to_string(spec.nChannels) + ")",
                          "compare images of at most 2^30 channel values");
-    std::vector<std::string> names = spec.channelnames;
-    names.resize(size_t(spec.nchannels));
+    std::vector<std::string> names = spec.channelNames;
+    names.resize(size_t(spec.nChannels));
     for (size_t c = 0; c < names.size(); ++c)
         if (names[c].empty()) names[c] = "channel" + std::to_string(c);
     DiffInput result;
     result.image = Image(spec.width, spec.height, names);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, result.image.data.data()))
-        throw IoError(path, "cannot read the pixels: " + in->geterror());
-    const bool floating = spec.format.basetype == OIIO::TypeDesc::FLOAT ||
-                          spec.format.basetype == OIIO::TypeDesc::HALF ||
-                          spec.format.basetype == OIIO::TypeDesc::DOUBLE;
-    const std::string colorSpace = spec.get_string_attribute("oiio:ColorSpace");
+    if (!in->readFloat(result.image.data.data(), error)) throw IoError(path, "cannot read the pixels: " + error);
+    const bool floating = spec.floating;
+    const std::string &colorSpace = spec.colorSpace;
     const bool linear = floating || colorSpace == "Linear" || colorSpace == "linear";
     if (!linear) {
-        const size_t nc = size_t(spec.nchannels);
+        const size_t nc = size_t(spec.nChannels);
         for (size_t i = 0; i < result.image.data.size(); ++i)
-            if (int(i % nc) != spec.alpha_channel) result.image.data[i] = float(srgbToLinear(result.image.data[i]));
+            if (int(i % nc) != spec.alphaChannel) result.image.data[i] = float(srgbToLinear(result.image.data[i]));
     }
-    const float spacing = spec.get_float_attribute(kHatchSpacingAttribute, 0.0f);
+    const float spacing = in->floatAttribute(kHatchSpacingAttribute, 0.0f);
     result.hatchSpacingPx = std::isfinite(spacing) && spacing > 0.0f ? double(spacing) : 0.0;
-    in->close();
     return result;
 }
 

@@ -5,7 +5,7 @@
 #include "core/parallel.h"
 #include "renderer/raster.h"
 
-#include <OpenImageIO/imageio.h>
+#include "renderer/image_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,11 +18,12 @@ InkMaps readInkMaps(const std::string &path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw IoError(path, "no such file (or not a regular file)");
-    auto in = OIIO::ImageInput::open(path);
+    std::string error;
+    std::unique_ptr<ImageFileReader> in = imageIo().open(path, error);
     if (!in)
-        throw InputError(FileLoc{path}, "not an image OpenImageIO can read: " + OIIO::geterror(),
+        throw InputError(FileLoc{path}, "not an image OpenImageIO can read: " + error,
                          "pass the .exr written by rosyhatch render");
-    const OIIO::ImageSpec &spec = in->spec();
+    const ImageFileHeader &spec = in->header();
     struct Wanted {
         const char *name;
         std::vector<float> InkMaps::*member;
@@ -34,8 +35,8 @@ InkMaps readInkMaps(const std::string &path) {
     std::vector<int> index;
     std::string missing;
     for (const Wanted &w : wanted) {
-        auto it = std::find(spec.channelnames.begin(), spec.channelnames.end(), w.name);
-        index.push_back(it == spec.channelnames.end() ? -1 : int(it - spec.channelnames.begin()));
+        auto it = std::find(spec.channelNames.begin(), spec.channelNames.end(), w.name);
+        index.push_back(it == spec.channelNames.end() ? -1 : int(it - spec.channelNames.begin()));
         if (index.back() < 0) missing += std::string(missing.empty() ? "" : ", ") + w.name;
     }
     if (!missing.empty())
@@ -47,11 +48,9 @@ InkMaps readInkMaps(const std::string &path) {
     InkMaps maps;
     maps.width = spec.width;
     maps.height = spec.height;
-    const size_t n = size_t(spec.width) * size_t(spec.height), nc = size_t(spec.nchannels);
+    const size_t n = size_t(spec.width) * size_t(spec.height), nc = size_t(spec.nChannels);
     std::vector<float> all(n * nc);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-        throw IoError(path, "cannot read the pixels: " + in->geterror());
-    in->close();
+    if (!in->readFloat(all.data(), error)) throw IoError(path, "cannot read the pixels: " + error);
     for (size_t k = 0; k < std::size(wanted); ++k) {
         std::vector<float> &dst = maps.*(wanted[k].member);
         dst.resize(n);
@@ -60,7 +59,7 @@ InkMaps readInkMaps(const std::string &path) {
             dst[i] = std::isfinite(v) ? v : 0.0f;
         }
     }
-    float spacing = spec.get_float_attribute(kHatchSpacingAttribute, 0.0f);
+    float spacing = in->floatAttribute(kHatchSpacingAttribute, 0.0f);
     maps.hatchSpacingPx = std::isfinite(spacing) && spacing > 0.0f ? double(spacing) : 0.0;
     return maps;
 }

@@ -1,4 +1,5 @@
 #include "renderer/raster.h"
+#include "renderer/large_buffer.h"
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -123,10 +124,10 @@ InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options)
     const size_t nPixels = size_t(width) * size_t(height);
     out.width = width;
     out.height = height;
-    out.hatch0.assign(nPixels, 0.0f);
-    out.hatch1.assign(nPixels, 0.0f);
-    out.contour.assign(nPixels, 0.0f);
-    out.hiddenContour.assign(nPixels, 0.0f);
+    assignLarge(out.hatch0, nPixels, 0.0f);
+    assignLarge(out.hatch1, nPixels, 0.0f);
+    assignLarge(out.contour, nPixels, 0.0f);
+    assignLarge(out.hiddenContour, nPixels, 0.0f);
 
     std::vector<uint8_t> strokeLayer;
     const std::vector<Segment> segs = flattenSegments(list.strokes, strokeLayer);
@@ -268,7 +269,8 @@ std::vector<float> combinedCoverage(const InkLayers &layers, const CompositeOpti
         float c = v[i];
         return c == c ? std::clamp(c, 0.0f, 1.0f) : 0.0f;
     };
-    std::vector<float> c(n);
+    std::vector<float> c;
+    assignLarge(c, n, 0.0f);
     parallelFor(0, int64_t(n), [&](int64_t i) {
         size_t k = size_t(i);
         float t = (1.0f - get(layers.hatch0, k)) * (1.0f - get(layers.hatch1, k)) *
@@ -309,7 +311,8 @@ double valueNoise(uint32_t seed, double x, double y) {
 std::vector<float> paperColors(int width, int height, const styles::Style &style,
                                const CompositeOptions &options) {
     const size_t n = size_t(std::max(0, width)) * size_t(std::max(0, height));
-    std::vector<float> rgb(3 * n);
+    std::vector<float> rgb;
+    assignLarge(rgb, 3 * n, 0.0f);
     const double grain = std::isfinite(style.paperGrain) ? std::clamp(style.paperGrain, 0.0, 1.0) : 0.0;
     const double scale = options.grainScalePx > 0.0 ? options.grainScalePx : 1.0;
     parallelFor(0, height, [&](int64_t y) {

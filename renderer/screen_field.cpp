@@ -1,4 +1,5 @@
 #include "renderer/screen_field.h"
+#include "renderer/large_buffer.h"
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -122,12 +123,12 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
     out.height = gbuffer.height;
     out.nSym = field.nSym;
     const size_t n = gbuffer.nPixels();
-    out.angle0.assign(n, 0.f);
-    out.angle1.assign(n, 0.f);
-    out.dir0.assign(n, Eigen::Vector2f::Zero());
-    out.dir1.assign(n, Eigen::Vector2f::Zero());
-    out.strength.assign(n, 0.f);
-    out.valid.assign(n, 0);
+    assignLarge(out.angle0, n, 0.f);
+    assignLarge(out.angle1, n, 0.f);
+    assignLarge(out.dir0, n, Eigen::Vector2f(Eigen::Vector2f::Zero()));
+    assignLarge(out.dir1, n, Eigen::Vector2f(Eigen::Vector2f::Zero()));
+    assignLarge(out.strength, n, 0.f);
+    assignLarge(out.valid, n, uint8_t(0));
     if (n == 0) return out;
 
     // Corner values per face once: faces cover many pixels at high resolution.

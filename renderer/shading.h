@@ -10,6 +10,7 @@
 #include "renderer/image.h"
 #include "styles/style.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace rosy::renderer {
@@ -32,10 +33,32 @@ struct ShadingOptions {
     double ambient = 0.15;
     /// Trace an occlusion ray toward each light (cast shadows).
     bool shadows = true;
+    /// Ambient occlusion: cosine-weighted occlusion rays per pixel; 0 = off.
+    int aoSamples = 0;
+    /// Ambient occlusion: length of the occlusion rays in world units (> 0 when
+    /// aoSamples > 0); geometry farther away does not occlude.
+    double aoRadius = 0.0;
+    /// Ambient occlusion: seed of the sample directions (the scene's seed).
+    uint32_t aoSeed = 1;
 };
 
+/// Ambient occlusion per pixel (row-major like the G-buffer; 1 for background and
+/// with aoSamples == 0): the cosine-weighted fraction of the hemisphere around the
+/// shading normal (flipped toward the viewer like the tone's) from which no
+/// geometry lies within options.aoRadius,
+///   AO(p) = (1/π) ∫_{H(n)} V(p, ω, radius) (n · ω) dω,
+/// estimated with options.aoSamples rays drawn from the cosine-weighted
+/// distribution (Malley's method: uniform points on the unit disk lifted to the
+/// hemisphere), stratified in the disk's radius. A direction below the face's own
+/// plane counts as occluded (the surface itself blocks it). Random numbers come
+/// from (aoSeed, pixel index, sample index) alone, so the result is identical for
+/// any thread count. Rays go through RayScene::occludedMany.
+std::vector<float> ambientOcclusion(const GBuffer &gbuffer, const RayScene &scene, const field::Mesh &mesh,
+                                    const Camera &camera, const ShadingOptions &options);
+
 /// Per-pixel tone in [0, 1] (1 = bright, row-major like the G-buffer):
-/// tone = ambient + (1 - ambient) * min(1, sum_i intensity_i * max(0, n . l_i) * visible_i).
+/// tone = ambient * AO + (1 - ambient) * min(1, sum_i intensity_i * max(0, n . l_i) * visible_i),
+/// AO = ambientOcclusion() when options.aoSamples > 0, else 1.
 /// Background pixels get 1 (paper). Normals of surfaces seen from behind (open meshes)
 /// are flipped toward the viewer. Parallel over rows, thread-count independent.
 std::vector<double> shadeLambert(const GBuffer &gbuffer, const RayScene &scene,

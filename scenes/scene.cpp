@@ -426,6 +426,29 @@ void parseCamera(const Parser &p, const YAML::Node &node, CameraDesc &cam) {
         p.fail(node, "a manual orthographic camera needs height (world units the image spans vertically)");
 }
 
+void parseAmbientOcclusion(const Parser &p, const YAML::Node &node, AmbientOcclusionDesc &ao) {
+    ao.loc = p.loc(node);
+    if (node.IsScalar()) {
+        ao.enabled = p.boolean(node, "ambient_occlusion");
+        return;
+    }
+    if (!node.IsMap())
+        p.fail(node, "ambient_occlusion must be true, false or a map like {samples: 16, radius: 0.1}, got " +
+                         Parser::kindOf(node));
+    ao.enabled = true;
+    for (const auto &[key, value] : p.entries(node, "ambient_occlusion", {"samples", "radius"})) {
+        const std::string &k = key.Scalar();
+        if (k == "samples") {
+            ao.samples = p.integer(value, "ambient_occlusion.samples", 1, 1024);
+        } else if (k == "radius") {
+            ao.radius = p.number(value, "ambient_occlusion.radius", 0.0, 10.0);
+            if (!(ao.radius > 0.0))
+                p.fail(value, "ambient_occlusion.radius must be greater than 0",
+                       "a fraction of the mesh's bounding-box diagonal, e.g. 0.1");
+        }
+    }
+}
+
 void parseLights(const Parser &p, const YAML::Node &node, std::vector<LightDesc> &lights) {
     if (!node.IsSequence())
         p.fail(node, "lights must be a list like [{type: directional, direction: [1, 1, 1]}], got " +
@@ -1178,7 +1201,7 @@ SceneDesc parseScene(const std::string &text, const std::string &path,
     desc.path = path;
     if (!root || root.IsNull())
         throw InputError(FileLoc{path, 1, 1}, "the scene file is empty", "it needs at least a mesh: key");
-    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "style", "field",
+    const auto entries = p.entries(root, "the scene", {"mesh", "camera", "lights", "output", "shadows", "ambient_occlusion", "style", "field",
                                                        "picture", "threads", "seed"});
     bool hasMesh = false;
     for (const auto &[key, value] : entries) {
@@ -1212,6 +1235,8 @@ SceneDesc parseScene(const std::string &text, const std::string &path,
             parseField(p, value, desc.field);
         } else if (k == "shadows") {
             desc.shadows = {p.boolean(value, "shadows"), p.loc(value)};
+        } else if (k == "ambient_occlusion") {
+            parseAmbientOcclusion(p, value, desc.ambientOcclusion);
         } else if (k == "style") {
             parseStyle(p, value, desc.style);
         } else if (k == "picture") {
@@ -1380,6 +1405,17 @@ Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions) {
     scene.shading.shadows = desc.shadows.value;
     scene.style = desc.style.style;
     scene.shading.ambient = scene.style.ambient;
+    if (desc.ambientOcclusion.enabled && scene.mesh.nVertices() > 0) {
+        Vec3 lo, hi;
+        scene.mesh.bounds(lo, hi);
+        // Relative to the mesh's size, so the drawing is the same at any scale.
+        const double radius = desc.ambientOcclusion.radius * (hi - lo).norm();
+        if (radius > 0.0) {
+            scene.shading.aoSamples = desc.ambientOcclusion.samples;
+            scene.shading.aoRadius = radius;
+            scene.shading.aoSeed = scene.style.seed;
+        }
+    }
     scene.output = desc.output.value;
     return scene;
 }

@@ -180,6 +180,14 @@ struct PictureDesc {
     FileLoc loc;
 };
 
+/// The top-level `ambient_occlusion` key (scenes/README.md).
+struct AmbientOcclusionDesc {
+    bool enabled = false;
+    int samples = 16;    ///< occlusion rays per pixel, 1..1024
+    double radius = 0.1; ///< ray length as a fraction of the mesh's bounding-box diagonal, (0, 10]
+    FileLoc loc;
+};
+
 struct SceneDesc {
     /// The scene file as given (used in every message).
     std::string path;
@@ -189,6 +197,8 @@ struct SceneDesc {
     bool lightsGiven = false;
     std::vector<LightDesc> lights;
     Located<bool> shadows{true, {}};
+    /// `ambient_occlusion`: off by default; `true` or a map {samples, radius} turns it on.
+    AmbientOcclusionDesc ambientOcclusion;
     /// The `style:` block: defaults, then the preset, then inline overrides.
     StyleDesc style;
     /// The first output path (relative to the working directory, as given); default:

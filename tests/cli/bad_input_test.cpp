@@ -256,10 +256,11 @@ TEST(BadInputCli, DiskFullMidWriteKeepsThePreviousFileAndNoTemporary) {
     }
 }
 
-// Known gap (tests/README.md): at 1e-9 (and 2^-30) the renderer draws less ink
-// than at unit scale (ink length 372 px against 515 px at 128²), so some stage
-// after the field uses an absolute length; 1e9 and 2^30 render like unit scale.
-TEST(BadInputCli, DISABLED_ExtremeScalesRenderLikeUnitScale) {
+// The renderer is scale-invariant: at 1e-9 (and 2^-30) it used to draw less ink
+// than at unit scale (ink length 372 px against 515 px at 128²) because Embree's
+// single-precision tolerances are absolute; RayScene now hands Embree the scene
+// scaled by a power of two to unit size (renderer/embree_scene.cpp).
+TEST(BadInputCli, ExtremeScalesRenderLikeUnitScale) {
     const fs::path dir = workDir();
     // Powers of two near 1e-9 and 1e9 scale coordinates exactly, so the drawing
     // must not change at all; 1e-9 and 1e9 themselves round differently in the
@@ -287,4 +288,25 @@ TEST(BadInputCli, DISABLED_ExtremeScalesRenderLikeUnitScale) {
         const double ink = number(report[name], "ink_length_px"), inkUnit = number(report["unit"], "ink_length_px");
         EXPECT_NEAR(ink, inkUnit, 0.02 * inkUnit) << name;
     }
+}
+
+// OpenImageIO is loaded at run time from librosy_image_io.so (renderer/image_io.h).
+// Without it an image output is an environment error (exit 3) that names the module
+// and the fix, and leaves no file; what needs no image I/O still works.
+TEST(BadInputCli, MissingImageModuleIsAnIoErrorAndSvgStillWorks) {
+    const fs::path dir = workDir();
+    put(dir / "m.off", ellipsoidOff(1.0));
+    put(dir / "m.yaml", "mesh: m.off\ncamera: {resolution: [64, 64]}\n");
+    fs::remove(dir / "m.png");
+    const std::string noModule = "export ROSY_IMAGE_IO_MODULE='" + (dir / "nowhere" / "librosy_image_io.so").string() + "';";
+    CliRun r = run(dir, "render m.yaml -o m.png --quiet", noModule);
+    EXPECT_EQ(r.exitCode, 3) << r.err;
+    EXPECT_NE(r.err.find("cannot load the image I/O module"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("ROSY_IMAGE_IO_MODULE"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "m.png"));
+    r = run(dir, "render m.yaml -o m.svg --quiet", noModule);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "m.svg"));
+    r = run(dir, "--help", noModule);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
 }

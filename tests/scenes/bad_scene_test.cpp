@@ -259,3 +259,24 @@ TEST(BadScene, FieldElementsOffTheMeshOrWithInvalidOrder) {
     EXPECT_TRUE(startsWith(msg, path() + ":2:")) << msg;
     EXPECT_TRUE(contains(msg, "order")) << msg;
 }
+
+TEST(BadScene, AmbientOcclusionValuesAreCheckedWithTheirPlace) {
+    const std::string m = "mesh: {primitive: icosphere}\n";
+    std::string msg = parseError(m + "ambient_occlusion: {samples: 0}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:30: error: ambient_occlusion.samples must be in [1, 1024], got 0")) << msg;
+    msg = parseError(m + "ambient_occlusion: {samples: 2.5}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:30: error: ambient_occlusion.samples must be a whole number")) << msg;
+    msg = parseError(m + "ambient_occlusion: {radius: 0}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:29: error: ambient_occlusion.radius must be greater than 0")) << msg;
+    msg = parseError(m + "ambient_occlusion: {radius: -1}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:29: error: ambient_occlusion.radius must be in [0, 10], got -1")) << msg;
+    msg = parseError(m + "ambient_occlusion: {radius: .inf}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:29: error: ambient_occlusion.radius must be a finite number")) << msg;
+    msg = parseError(m + "ambient_occlusion: maybe\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:20: error: ambient_occlusion must be true or false")) << msg;
+    msg = parseError(m + "ambient_occlusion: [16, 0.1]\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:20: error: ambient_occlusion must be true, false or a map")) << msg;
+    msg = parseError(m + "ambient_occlusion: {sample: 4}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:21: error: unknown key 'sample' in ambient_occlusion")) << msg;
+    EXPECT_TRUE(contains(msg, "samples")) << msg;
+}

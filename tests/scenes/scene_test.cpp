@@ -734,3 +734,33 @@ TEST(SceneThreadsAndSeed, TopLevelSeedSetsTheStyleSeedUnlessTheStyleGivesOne) {
     SceneDesc d = parseScene("mesh: thing.off\n\nseed: 42\n", scenePath());
     EXPECT_EQ(d.style.setAt.at("seed").line, 3);
 }
+
+TEST(ParseScene, AmbientOcclusionIsOffByDefaultAndItsRadiusFollowsTheMeshSize) {
+    const Scene plain = buildScene(parseScene("mesh: {primitive: icosphere}\n", scenePath()));
+    EXPECT_EQ(plain.shading.aoSamples, 0);
+
+    const Scene defaults =
+        buildScene(parseScene("mesh: {primitive: icosphere}\nambient_occlusion: true\nseed: 9\n", scenePath()));
+    rosy::field::Vec3 lo, hi;
+    defaults.mesh.bounds(lo, hi);
+    EXPECT_EQ(defaults.shading.aoSamples, 16);
+    EXPECT_NEAR(defaults.shading.aoRadius, 0.1 * (hi - lo).norm(), 1e-12);
+    EXPECT_EQ(defaults.shading.aoSeed, 9u);
+
+    // The same scene scaled by 1000 gets a 1000 times longer radius: the drawing
+    // does not depend on the units.
+    const std::string text = "mesh: {primitive: icosphere, transform: {scale: SCALE}}\n"
+                             "ambient_occlusion: {samples: 8, radius: 0.5}\n";
+    auto with = [&](const std::string &scale) {
+        std::string t = text;
+        t.replace(t.find("SCALE"), 5, scale);
+        return buildScene(parseScene(t, scenePath()));
+    };
+    const Scene small = with("1"), large = with("1000");
+    EXPECT_EQ(small.shading.aoSamples, 8);
+    small.mesh.bounds(lo, hi);
+    EXPECT_NEAR(small.shading.aoRadius, 0.5 * (hi - lo).norm(), 1e-12);
+    EXPECT_NEAR(large.shading.aoRadius / small.shading.aoRadius, 1000.0, 1e-9);
+    EXPECT_FALSE(parseScene("mesh: {primitive: icosphere}\nambient_occlusion: false\n", scenePath())
+                     .ambientOcclusion.enabled);
+}
