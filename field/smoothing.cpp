@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <limits>
 
 namespace rosy::field {
 namespace {
@@ -258,6 +259,22 @@ SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
     // (M-normalised), so none is left near zero.
     int nComp = 0;
     const std::vector<int> comp = components(mesh, nComp);
+    // vertexAreas() floors zero areas (so M stays invertible elsewhere), which hides
+    // a component without any area: measure the faces themselves, against the
+    // component's own size so the test is scale-invariant.
+    std::vector<double> faceArea(nComp, 0.0);
+    std::vector<Vec3> lo(nComp, Vec3::Constant(std::numeric_limits<double>::infinity()));
+    std::vector<Vec3> hi(nComp, Vec3::Constant(-std::numeric_limits<double>::infinity()));
+    for (int f = 0; f < mesh.nFaces(); ++f) faceArea[comp[mesh.face(f)[0]]] += mesh.faceArea(f);
+    for (int v = 0; v < n; ++v) {
+        lo[comp[v]] = lo[comp[v]].cwiseMin(mesh.position(v));
+        hi[comp[v]] = hi[comp[v]].cwiseMax(mesh.position(v));
+    }
+    for (int c = 0; c < nComp; ++c)
+        if (!(faceArea[c] > 1e-12 * (hi[c] - lo[c]).squaredNorm()))
+            throw InputError(FileLoc{mesh.name()},
+                             "a mesh component has (almost) zero total area, so it has no smoothest field",
+                             "remove the degenerate faces (the mesh loaders do this with a warning) or the component");
     Eigen::VectorXcd x(n);
     for (int c = 0; c < nComp; ++c) {
         std::vector<int> freeId(n, -1);

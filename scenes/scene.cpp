@@ -6,6 +6,7 @@
 #include "renderer/svg.h"
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -768,28 +769,94 @@ void checkFlowDepth(const Parser &p, const std::string &text) {
     }
 }
 
+/// Walks the token stream once, document by document, before anything is built:
+/// records where the second document with content starts, and stops a stream the
+/// parser cannot advance. yaml-cpp 0.7's LoadAll loops forever on a stray ',' at
+/// the top level (each call yields an empty document at the same mark without
+/// consuming the token: jbeder/yaml-cpp#1040, fixed after 0.7); the fuzzer found it
+/// (tests/fuzz/scene/crashers/comma_loadall_hang.yaml).
+class DocumentCounter final : public YAML::EventHandler {
+public:
+    bool content = false;        ///< the current document holds a non-null node
+    YAML::Mark contentMark;      ///< where that content starts
+    YAML::Mark start;            ///< the current document's start
+    void OnDocumentStart(const YAML::Mark &mark) override {
+        start = mark;
+        content = false;
+    }
+    void OnDocumentEnd() override {}
+    void OnNull(const YAML::Mark &, YAML::anchor_t) override {}
+    void OnAlias(const YAML::Mark &mark, YAML::anchor_t) override { see(mark); }
+    void OnScalar(const YAML::Mark &mark, const std::string &, YAML::anchor_t, const std::string &) override {
+        see(mark);
+    }
+    void OnSequenceStart(const YAML::Mark &mark, const std::string &, YAML::anchor_t,
+                         YAML::EmitterStyle::value) override {
+        see(mark);
+    }
+    void OnSequenceEnd() override {}
+    void OnMapStart(const YAML::Mark &mark, const std::string &, YAML::anchor_t, YAML::EmitterStyle::value) override {
+        see(mark);
+    }
+    void OnMapEnd() override {}
+
+private:
+    void see(const YAML::Mark &mark) {
+        if (!content) contentMark = mark;
+        content = true;
+    }
+};
+
+YAML::Mark markAt(const std::string &text, size_t pos) {
+    YAML::Mark m;
+    m.pos = int(pos);
+    m.line = int(std::count(text.begin(), text.begin() + std::min(pos, text.size()), '\n'));
+    const size_t nl = text.rfind('\n', pos == 0 ? std::string::npos : pos - 1);
+    m.column = int(nl == std::string::npos || pos == 0 ? pos : pos - nl - 1);
+    return m;
+}
+
+void checkSingleDocument(const Parser &p, const std::string &text) {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    DocumentCounter counter;
+    int withContent = 0;
+    int previousStart = -1;
+    while (parser.HandleNextDocument(counter)) {
+        if (counter.start.pos == previousStart && !counter.content) {
+            // No progress: the parser is stuck on a token it cannot use.
+            size_t at = size_t(std::max(0, counter.start.pos));
+            while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+            const std::string what = at < text.size() ? std::string("'") + text[at] + "'" : "end of file";
+            throw InputError(p.loc(markAt(text, at)), "YAML syntax error: unexpected " + what,
+                             "a ',' separates items only inside [lists] and {maps}; quote the text if it is a value");
+        }
+        previousStart = counter.start.pos;
+        if (counter.content && ++withContent > 1)
+            throw InputError(p.loc(counter.contentMark), "the file holds several YAML documents (separated by '---')",
+                             "keep one scene per file");
+    }
+}
+
 /// Parses one YAML document and checks its shape: one document, nesting and
 /// alias expansion within the limits above.
 YAML::Node loadYaml(const Parser &p, const std::string &text) {
     checkFlowDepth(p, text);
-    std::vector<YAML::Node> docs;
+    YAML::Node root;
     try {
-        docs = YAML::LoadAll(text);
+        checkSingleDocument(p, text);
+        root = YAML::Load(text); // the first document (the only one with content)
     } catch (const YAML::DeepRecursion &e) {
         throw InputError(p.loc(e.mark), "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
                          "scene files need only a few levels of maps and lists");
     } catch (const YAML::ParserException &e) {
         throw InputError(p.loc(e.mark), "YAML syntax error: " + e.msg, "check indentation, colons and brackets");
     }
-    for (size_t i = 1; i < docs.size(); ++i)
-        if (docs[i] && !docs[i].IsNull())
-            p.fail(docs[i], "the file holds several YAML documents (separated by '---')",
-                   "keep one scene per file");
-    if (docs.empty()) return YAML::Node();
+    if (!root) return YAML::Node();
     std::vector<YAML::Node> stack;
     long visited = 0;
-    checkYamlShape(p, docs[0], stack, visited);
-    return docs[0];
+    checkYamlShape(p, root, stack, visited);
+    return root;
 }
 
 void parseStyle(const Parser &p, const YAML::Node &node, StyleDesc &sd) {

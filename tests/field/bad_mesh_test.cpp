@@ -658,3 +658,36 @@ TEST_F(BadMesh, BinaryRecordsThatLieAreRejectedNotFollowed) {
             EXPECT_THROW(loadMesh(entry.path().string()), InputError);
         }
 }
+
+// The fuzzer's NaN (tests/fuzz/field/crashers/all_faces_zero_area_nan_field.bin):
+// a closed component whose faces all have zero area (here a tetrahedron flattened
+// onto a line, which Mesh::fromTriangles accepts: it checks topology, not geometry).
+// Every source must give a clean InputError or a finite field, never NaN.
+TEST_F(BadMesh, ComponentWithOnlyZeroAreaFacesIsAnErrorNotNaN) {
+    const std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+    const std::vector<Face> f = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    const Mesh mesh = Mesh::fromTriangles(p, f, "flat-tet");
+    WarningCapture capture;
+    const TangentFrames frames(mesh);
+    for (LaplaceWeights w : {LaplaceWeights::MeanValue, LaplaceWeights::Cotan}) {
+        for (FieldSource source : {FieldSource::Curvature, FieldSource::Smoothest, FieldSource::Design}) {
+            FieldSpec spec;
+            spec.weights = w;
+            spec.source = source;
+            if (source == FieldSource::Design) {
+                DesignElement el;
+                el.position = Vec3(1, 0, 0);
+                spec.elements.push_back(el);
+            }
+            try {
+                const FieldResult r = buildField(frames, spec);
+                EXPECT_TRUE(r.field.u.allFinite()) << toString(source);
+            } catch (const InputError &e) {
+                const std::string msg = e.what();
+                EXPECT_TRUE(msg.find("zero total area") != std::string::npos ||
+                            (source == FieldSource::Design && msg.find("degenerate face") != std::string::npos))
+                    << msg;
+            }
+        }
+    }
+}

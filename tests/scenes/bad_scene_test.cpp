@@ -280,3 +280,15 @@ TEST(BadScene, AmbientOcclusionValuesAreCheckedWithTheirPlace) {
     EXPECT_TRUE(startsWith(msg, path() + ":2:21: error: unknown key 'sample' in ambient_occlusion")) << msg;
     EXPECT_TRUE(contains(msg, "samples")) << msg;
 }
+
+// yaml-cpp 0.7's LoadAll never returns on a stray top-level ',' (the fuzzer's
+// scene hang, tests/fuzz/scene/crashers/comma_loadall_hang.yaml): a syntax error
+// at the comma instead, in well under the test's timeout.
+TEST(BadScene, StrayTopLevelCommaIsASyntaxErrorNotAHang) {
+    std::string msg = parseError(",");
+    EXPECT_TRUE(startsWith(msg, path() + ":1:1: error: YAML syntax error: unexpected ','")) << msg;
+    msg = parseError("# a comment\n\n  ,\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":3:3: error: YAML syntax error: unexpected ','")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\n---\n,\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":3:1: error: YAML syntax error: unexpected ','")) << msg;
+}
