@@ -170,13 +170,13 @@ void runRender(const RenderOptions &opt) {
         if (!desc.style.presetPath.empty()) checkNotAnInput(out, desc.style.presetPath, "style preset");
     }
 
-    // Image files go out through OpenImageIO, a module of ~260 shared libraries:
-    // map it on a background thread while the mesh loads and the field is solved
-    // (renderer/image_io.h). The SVG writer does not need it.
-    if (!rasterPaths.empty()) renderer::preloadImageIo();
-
     scenes::Scene scene =
         timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
+    // Image files go out through OpenImageIO, a module of ~260 shared libraries:
+    // map it on a background thread while the field is solved (renderer/image_io.h).
+    // Not before the mesh load: the mapping slowed the loader's page faults from 50
+    // to 100 ms, more than the load could hide. The SVG writer does not need it.
+    if (!rasterPaths.empty()) renderer::preloadImageIo();
     const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });
     field::FieldResult fieldResult = timings.time("field", [&] {
         field::FieldResult r = field::buildField(frames, desc.field.spec);
@@ -208,6 +208,7 @@ void runRender(const RenderOptions &opt) {
     input.lights = scene.lights;
     input.shading = scene.shading;
     input.style = scene.style;
+    input.measureHatching = !opt.reportPath.empty(); // only the report reads it
     const renderer::Illustration il = renderer::renderIllustration(input);
     for (const auto &[stage, ms] : il.timingsMs) timings.add(stage, ms);
 

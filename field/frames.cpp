@@ -41,7 +41,14 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
     parallelFor(0, nH, [&](int64_t h) { corner[h] = mesh.cornerAngle(int(h)); }, 4096);
 
     const int *ring0 = nV > 0 ? mesh.outgoingBegin(0) : nullptr;
-    parallelFor(0, nV, [&](int64_t vi) {
+    // Scratch space per chunk, not thread_local: a thread_local with a destructor
+    // registers itself through __cxa_thread_atexit, which takes the dynamic loader's
+    // lock, so every TBB worker stalled here while rosyhatch's image module was being
+    // dlopen()ed on its background thread (frames took 150 ms instead of 40).
+    parallelForRange(0, nV, [&](int64_t lo, int64_t hi) {
+      std::vector<Vec3> dirs;
+      std::vector<double> psi;
+      for (int64_t vi = lo; vi < hi; ++vi) {
         const int v = int(vi);
         const int *begin = mesh.outgoingBegin(v), *end = mesh.outgoingEnd(v);
         const int d = int(end - begin);
@@ -69,9 +76,6 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
             double len = t.norm();
             return len > 0 ? Vec3(t / len) : Vec3::Zero();
         };
-        // Scratch space reused per thread: no heap traffic in the parallel loop.
-        thread_local std::vector<Vec3> dirs;
-        thread_local std::vector<double> psi;
         dirs.resize(d + 1);
         psi.assign(d + 1, 0.0);
         for (int k = 0; k < d; ++k) dirs[k] = projected(mesh.vector(begin[k]));
@@ -93,6 +97,7 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
         for (int k = 0; k < d; ++k) m_projAngle[base + k] = psi[k];
         m_projTotal[v] = psi[d];
         m_angleTotal[v] = boundary ? total : kTwoPi;
+      }
     }, 1024);
 
     // Reverse angles and transport need the angles of neighbouring vertices.

@@ -51,7 +51,7 @@ Illustration renderIllustration(const IllustrationInput &in) {
     lap("screen_field");
 
     out.strokes = traceHatches(out.screen, out.targetDensity, out.gbuffer, in.style.hatch, in.style.seed);
-    out.hatch = measureHatches(out.strokes, out.screen, out.targetDensity, in.style.hatch);
+    if (in.measureHatching) out.hatch = measureHatches(out.strokes, out.screen, out.targetDensity, in.style.hatch);
     lap("hatching");
 
     StrokeList contours = extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);

@@ -38,6 +38,9 @@ struct IllustrationInput {
     std::vector<Light> lights;
     ShadingOptions shading;
     styles::Style style;
+    /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
+    /// singularities; about a sixth of the hatching stage). Off when nobody reads it.
+    bool measureHatching = true;
 };
 
 struct Illustration {
@@ -47,7 +50,7 @@ struct Illustration {
     StrokeList strokes; ///< hatches (in creation order) then contours
     InkLayers layers;
     Image composite;    ///< linear RGB + alpha over paper
-    HatchReport hatch;  ///< measured independently of the tracer (measureHatches)
+    HatchReport hatch;  ///< measured independently of the tracer (measureHatches), if asked
     ContourReport contours;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster
 };

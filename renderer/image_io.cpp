@@ -3,6 +3,8 @@
 
 #include "renderer/image_io.h"
 
+#include "core/parallel.h"
+
 #include "core/error.h"
 
 #include <dlfcn.h>
@@ -107,7 +109,10 @@ ModuleLoader &loader() {
 
 } // namespace
 
-void preloadImageIo() { loader().start(); }
+void preloadImageIo() {
+    startWorkerThreads(); // before dlopen() holds the loader lock (core/parallel.h)
+    loader().start();
+}
 
 const ImageIo &imageIo() {
     const LoadResult &r = loader().wait();
