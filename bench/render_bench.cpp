@@ -8,6 +8,12 @@
 #include "field/primitives.h"
 #include "field/singularities.h"
 #include "renderer/illustration.h"
+#include "renderer/shading.h"
+#include "renderer/screen_field.h"
+#include "renderer/raster.h"
+#include "renderer/image.h"
+#include "renderer/hatching.h"
+#include "renderer/contours.h"
 #include "scenes/scene.h"
 #include "renderer/camera.h"
 #include "renderer/embree_scene.h"
@@ -19,6 +25,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 
@@ -95,6 +102,134 @@ static void BM_GBuffer(benchmark::State &state) {
     for (auto _ : state) benchmark::DoNotOptimize(renderer::renderGBuffer(*s.scene, s.mesh, *s.camera));
 }
 BENCHMARK(BM_GBuffer)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Every stage of the default render, scenes/bunny.yaml at its own 1024² camera,
+// each on the previous stages' output computed once (the fixture below), so a
+// stage's median is its own cost. The CLI's --timings reports the same stages
+// inside one process run.
+namespace {
+struct BunnyScene {
+    scenes::SceneDesc desc;
+    scenes::Scene scene;
+    std::unique_ptr<field::TangentFrames> frames;
+    field::FieldResult field;
+    field::SingularityReport singularities;
+    std::unique_ptr<renderer::RayScene> rays;
+    renderer::Illustration il; ///< every stage's output, from renderIllustration
+    renderer::IllustrationInput input() const {
+        renderer::IllustrationInput in;
+        in.mesh = &scene.mesh;
+        in.frames = frames.get();
+        in.field = &field.field;
+        in.singularities = &singularities;
+        in.scene = rays.get();
+        in.camera = &scene.camera;
+        in.lights = scene.lights;
+        in.shading = scene.shading;
+        in.style = scene.style;
+        return in;
+    }
+};
+
+BunnyScene &bunnyScene() {
+    static BunnyScene *b = [] {
+        auto *x = new BunnyScene;
+        x->desc = scenes::parseSceneFile(std::string(ROSY_DATA_DIR) + "/../scenes/bunny.yaml", {});
+        x->scene = scenes::buildScene(x->desc);
+        x->frames = std::make_unique<field::TangentFrames>(x->scene.mesh);
+        x->field = field::buildField(*x->frames, x->desc.field.spec);
+        x->singularities = field::findSingularities(*x->frames, x->field.field);
+        x->rays = std::make_unique<renderer::RayScene>(x->scene.mesh);
+        x->il = renderer::renderIllustration(x->input());
+        return x;
+    }();
+    return *b;
+}
+} // namespace
+
+static void BM_BunnyLoad(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state) benchmark::DoNotOptimize(scenes::buildScene(b.desc));
+}
+BENCHMARK(BM_BunnyLoad)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyBvh(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state) renderer::RayScene rays(b.scene.mesh);
+}
+BENCHMARK(BM_BunnyBvh)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyGBuffer(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state) benchmark::DoNotOptimize(renderer::renderGBuffer(*b.rays, b.scene.mesh, b.scene.camera));
+}
+BENCHMARK(BM_BunnyGBuffer)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyTone(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state)
+        benchmark::DoNotOptimize(renderer::shadeLambert(b.il.gbuffer, *b.rays, b.scene.mesh, b.scene.camera,
+                                                        b.scene.lights, b.scene.shading));
+}
+BENCHMARK(BM_BunnyTone)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyScreenField(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state)
+        benchmark::DoNotOptimize(renderer::computeScreenField(b.il.gbuffer, *b.frames, b.field.field,
+                                                              b.singularities, b.scene.camera));
+}
+BENCHMARK(BM_BunnyScreenField)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyHatching(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state)
+        benchmark::DoNotOptimize(renderer::traceHatches(b.il.screen, b.il.targetDensity, b.il.gbuffer,
+                                                        b.scene.style.hatch, b.scene.style.seed));
+}
+BENCHMARK(BM_BunnyHatching)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyMeasureHatching(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state)
+        benchmark::DoNotOptimize(
+            renderer::measureHatches(b.il.strokes, b.il.screen, b.il.targetDensity, b.scene.style.hatch));
+}
+BENCHMARK(BM_BunnyMeasureHatching)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyContours(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state)
+        benchmark::DoNotOptimize(renderer::extractContours(b.scene.mesh, b.scene.camera, *b.rays, b.il.gbuffer,
+                                                           b.scene.style.contour));
+}
+BENCHMARK(BM_BunnyContours)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyRaster(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    for (auto _ : state) {
+        const renderer::InkLayers layers = renderer::rasterizeStrokes(b.il.strokes);
+        benchmark::DoNotOptimize(renderer::compositeInk(layers, b.scene.style));
+    }
+}
+BENCHMARK(BM_BunnyRaster)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyWritePng(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    const std::string path = "/tmp/rosy_render_bench_bunny.png";
+    renderer::writeImage(b.il.composite, path); // loads the image module outside the timing
+    for (auto _ : state) renderer::writeImage(b.il.composite, path);
+    std::remove(path.c_str());
+}
+BENCHMARK(BM_BunnyWritePng)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_BunnyIllustration(benchmark::State &state) {
+    BunnyScene &b = bunnyScene();
+    renderer::IllustrationInput in = b.input();
+    in.measureHatching = false; // as the CLI without --report
+    for (auto _ : state) benchmark::DoNotOptimize(renderer::renderIllustration(in));
+}
+BENCHMARK(BM_BunnyIllustration)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The large case: a 1M-face mesh at 4096², end to end in one process.
 // bunny00 (75,408 faces) midpoint-subdivided twice gives 1,206,528 faces with the

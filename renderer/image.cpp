@@ -1,4 +1,6 @@
 #include "renderer/image.h"
+
+#include "core/parallel.h"
 #include "renderer/large_buffer.h"
 
 #include "core/atomic_file.h"
@@ -155,15 +157,19 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
             words.resize(image.data.size());
         else
             bytes.resize(image.data.size());
-        for (size_t i = 0; i < image.data.size(); ++i) {
-            int c = int(i % size_t(image.nChannels));
-            double v = image.data[i];
-            double e = c == alpha ? (v == v ? std::clamp(v, 0.0, 1.0) : 0.0) : linearToSrgb(v);
-            if (sixteenBit)
-                words[i] = uint16_t(std::lround(e * 65535.0));
-            else
-                bytes[i] = uint8_t(std::lround(e * 255.0));
-        }
+        // Rows in parallel: each value depends only on itself.
+        const size_t rowValues = size_t(image.width) * size_t(image.nChannels);
+        parallelFor(0, image.height, [&](int64_t y) {
+            for (size_t i = size_t(y) * rowValues, end = i + rowValues; i < end; ++i) {
+                int c = int(i % size_t(image.nChannels));
+                double v = image.data[i];
+                double e = c == alpha ? (v == v ? std::clamp(v, 0.0, 1.0) : 0.0) : linearToSrgb(v);
+                if (sixteenBit)
+                    words[i] = uint16_t(std::lround(e * 65535.0));
+                else
+                    bytes[i] = uint8_t(std::lround(e * 255.0));
+            }
+        }, 16);
     }
     // NaN and infinities cannot be displayed; EXR would store them verbatim, which
     // breaks "never NaN in output". Replace them before writing.
