@@ -134,8 +134,15 @@ TEST(PoincareHopf, HoldsOnShippedMeshesAndPrimitives) {
         rosy::WarningCapture quiet;
         for (const char *name : {"bunny00.off", "fandisk.off", "elephant.off", "double-torus-example.off",
                                  "elephant-with-holes.off", "ChineseDragon-10kv.off", "camel.off", "homer.off",
-                                 "lion-head.off", "man.off", "armadillo.off"})
+                                 "lion-head.off", "man.off", "armadillo.off"}) {
+#ifdef ROSY_SANITIZED
+            // Under ASan + UBSan the three largest (26k–38k vertices) cost two thirds of
+            // this test's minute; the Release suite runs them, the others take the same paths.
+            const std::string big(name);
+            if (big == "bunny00.off" || big == "man.off" || big == "armadillo.off") continue;
+#endif
             meshes.push_back(loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/" + name));
+        }
     }
     for (const Mesh &m : meshes) {
         const MeshStats stats = computeStats(m);
