@@ -3,13 +3,17 @@
 #include "core/diagnostics.h"
 #include "field/curvature.h"
 #include "field/design.h"
+#include "field/editing.h"
 #include "field/field_builder.h"
 #include "field/mesh_io.h"
 #include "field/primitives.h"
+#include "field/separatrices.h"
 #include "field/singularities.h"
 #include "field/smoothing.h"
 
 #include <benchmark/benchmark.h>
+
+#include <sys/resource.h>
 
 #include <chrono>
 #include <memory>
@@ -31,7 +35,7 @@ Bunny &bunny() {
         x->frames = std::make_unique<TangentFrames>(x->mesh);
         x->curvature = computeCurvature(x->mesh);
         x->guide = curvatureField(*x->frames, x->curvature, 4);
-        x->field = alignedField(*x->frames, x->guide, 0.04);
+        x->field = alignedField(*x->frames, x->guide, FieldSpec{}.smoothingLength);
         return x;
     }();
     return *b;
@@ -52,7 +56,7 @@ BENCHMARK(BM_Curvature)->Unit(benchmark::kMillisecond);
 
 static void BM_CurvatureAligned4Rosy(benchmark::State &state) {
     Bunny &b = bunny();
-    for (auto _ : state) benchmark::DoNotOptimize(alignedField(*b.frames, b.guide, 0.04));
+    for (auto _ : state) benchmark::DoNotOptimize(alignedField(*b.frames, b.guide, FieldSpec{}.smoothingLength));
 }
 BENCHMARK(BM_CurvatureAligned4Rosy)->Unit(benchmark::kMillisecond);
 
@@ -85,6 +89,57 @@ static void BM_Singularities(benchmark::State &state) {
 }
 BENCHMARK(BM_Singularities)->Unit(benchmark::kMillisecond);
 
+// Separatrices of every singularity of the default field (Eq. 9 roots, traced).
+static void BM_Separatrices(benchmark::State &state) {
+    Bunny &b = bunny();
+    const SingularityReport rep = findSingularities(*b.frames, b.field);
+    size_t n = 0;
+    for (auto _ : state) {
+        const auto seps = traceSeparatrices(*b.frames, b.field, rep.singularities);
+        n = seps.size();
+        benchmark::DoNotOptimize(seps.data());
+    }
+    state.counters["separatrices"] = double(n);
+}
+BENCHMARK(BM_Separatrices)->Unit(benchmark::kMillisecond);
+
+// Topological editing on the default field: cancel the opposite pair nearest to
+// the first singularity, and move the first singularity one face-width away
+// (each on a fresh copy of the field, copy included).
+static void BM_CancelPair(benchmark::State &state) {
+    Bunny &b = bunny();
+    const SingularityReport rep = findSingularities(*b.frames, b.field);
+    const Vec3 p = rep.singularities.at(0).position;
+    const auto [i, j] = nearestOppositePair(rep.singularities, p, p);
+    for (auto _ : state) {
+        RosyField f = b.field;
+        benchmark::DoNotOptimize(cancelPair(*b.frames, f, i, j));
+    }
+}
+BENCHMARK(BM_CancelPair)->Unit(benchmark::kMillisecond);
+
+static void BM_MoveSingularity(benchmark::State &state) {
+    Bunny &b = bunny();
+    const SingularityReport rep = findSingularities(*b.frames, b.field);
+    const Singularity &s = rep.singularities.at(0);
+    // The centroid of a face two rings away from the singular face.
+    const Mesh &m = b.mesh;
+    const int h1 = m.twin(3 * s.face);
+    const int h2 = h1 < 0 ? -1 : m.twin(Mesh::next(h1));
+    if (h2 < 0) {
+        state.SkipWithError("the first singularity is next to the boundary");
+        return;
+    }
+    const int target = h2 / 3;
+    const auto &c = m.face(target);
+    const Vec3 to = (m.position(c[0]) + m.position(c[1]) + m.position(c[2])) / 3;
+    for (auto _ : state) {
+        RosyField f = b.field;
+        benchmark::DoNotOptimize(moveSingularity(*b.frames, f, 0, to));
+    }
+}
+BENCHMARK(BM_MoveSingularity)->Unit(benchmark::kMillisecond);
+
 // The whole field stage of the product's default (frames, curvature, the
 // curvature-aligned 4-RoSy of the default FieldSpec, singularities) on bunny00
 // subdivided twice at edge midpoints: 603k vertices, 1.21M faces. The mesh is
@@ -114,6 +169,11 @@ static void BM_FieldStage1M(benchmark::State &state) {
         state.counters["singularities_ms"] = ms(t2, t3);
         state.counters["singularities"] = double(rep.singularities.size());
     }
+    // The process's peak resident memory (getrusage): run this benchmark alone
+    // (--benchmark_filter=1M) so it covers only the mesh and its field stage.
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    state.counters["peak_rss_MiB"] = double(usage.ru_maxrss) / 1024.0; // KiB on Linux
 }
 BENCHMARK(BM_FieldStage1M)->Unit(benchmark::kMillisecond)->Iterations(1);
 

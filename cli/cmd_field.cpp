@@ -39,7 +39,7 @@ struct FieldOptions {
     std::string input;
     int symmetry = 4;
     std::string source = "curvature";
-    double smoothingLength = 0.04;
+    double smoothingLength = 0.08; // field::FieldSpec's default
     std::string weights = "meanvalue";
     std::vector<std::string> elements;
     std::string globalSmoothing; ///< "ITER[:STRENGTH]"

@@ -156,6 +156,9 @@ void runRender(const RenderOptions &opt) {
         }
         svgOptions.plotterPass = !opt.noPlotter;
     }
+    if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !opt.reportPath.empty())
+        throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
+                         "drop --report, or set picture.kind: hatching");
     // Fail on any unwritable destination before spending time on the render: then
     // nothing at all is written.
     for (const std::string &o : outputs) checkWritable(o);
@@ -186,9 +189,6 @@ void runRender(const RenderOptions &opt) {
     const field::SingularityReport singularities =
         timings.time("singularities", [&] { return field::findSingularities(frames, fieldResult.field); });
     if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field) {
-        if (!opt.reportPath.empty())
-            throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
-                             "drop --report, or set picture.kind: hatching");
         renderFieldPictureScene(desc, scene, frames, fieldResult.field, singularities, rasterPaths, svgPath, timings);
         if (!opt.common.timingsPath.empty())
             timings.write(opt.common.timingsPath,

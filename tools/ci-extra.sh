@@ -24,6 +24,8 @@ harnesses=(fuzz_scene fuzz_mesh_off fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_stl fu
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# Third-party leaks only (libraries OpenImageIO loads); see the file.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tools/lsan-suppressions.txt:print_suppressions=0}
 
 t0=$SECONDS
 if [ ! -f "$build/build.ninja" ]; then

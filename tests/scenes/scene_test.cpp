@@ -229,7 +229,7 @@ TEST(ParseSceneField, DefaultsWithoutBlock) {
     EXPECT_FALSE(d.field.given);
     EXPECT_EQ(d.field.spec.nSym, 4);
     EXPECT_EQ(d.field.spec.source, rosy::field::FieldSource::Curvature);
-    EXPECT_DOUBLE_EQ(d.field.spec.smoothingLength, 0.04);
+    EXPECT_DOUBLE_EQ(d.field.spec.smoothingLength, 0.08);
     EXPECT_TRUE(d.field.edits.empty());
 }
 
