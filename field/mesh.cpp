@@ -1,5 +1,7 @@
 #include "field/mesh.h"
 
+#include <cstdio>
+
 #include "core/error.h"
 
 #include <algorithm>
@@ -19,6 +21,25 @@ Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
         if (!positions[v].allFinite())
             throw InputError(loc, "vertex " + std::to_string(v) + " has a non-finite coordinate",
                              "fix or remove that vertex");
+    // A mesh far smaller than any real object: areas (d²) and their products (d⁴ in
+    // the curvature and the solvers) would underflow toward the denormals, and the
+    // fuzzer's disk scaled to 1e-73 made the smoothest-field solve fail. Loaded
+    // coordinates are floats, so nothing real is below 1e-15 across.
+    if (nF > 0) {
+        Vec3 lo = positions[0], hi = positions[0];
+        for (const Vec3 &p : positions) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+        const double diagonal = (hi - lo).norm();
+        if (!(diagonal >= kMinMeshSize)) {
+            char size[32];
+            std::snprintf(size, sizeof size, "%.3g", diagonal);
+            throw InputError(loc, std::string("the mesh is ") + size + " units across, below the limit of 1e-15",
+                             "rescale the mesh (e.g. mesh.transform.scale in a scene); the picture does not "
+                             "depend on its scale");
+        }
+    }
     for (int f = 0; f < nF; ++f) {
         const Face &t = faces[f];
         for (int k = 0; k < 3; ++k)

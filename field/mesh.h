@@ -22,6 +22,9 @@
 
 namespace rosy::field {
 
+/// Smallest bounding-box diagonal a mesh with faces may have (see Mesh::fromTriangles).
+constexpr double kMinMeshSize = 1e-15;
+
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Face = std::array<int, 3>;
@@ -35,7 +38,8 @@ public:
     /// \throws InputError (with `name` as the file) if a face repeats a vertex or
     ///   uses an index outside [0, #V), an edge is shared by more than two faces or
     ///   traversed twice in the same direction (inconsistent orientation), a vertex
-    ///   is isolated or non-manifold (two fans), or a coordinate is not finite.
+    ///   is isolated or non-manifold (two fans), a coordinate is not finite, or the
+    ///   mesh has faces and its bounding-box diagonal is below kMinMeshSize.
     static Mesh fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
                               const std::string &name = "<mesh>");
 

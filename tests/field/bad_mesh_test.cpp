@@ -482,8 +482,40 @@ TEST_F(BadMesh, ExtremeScalesGiveTheSameFieldAsUnitScale) {
         for (int v = 0; v < m.nVertices(); ++v)
             worst = std::max(worst, std::abs(std::arg(r.field.u[v] / r1.field.u[v])));
         // Exact at 2^+-30; at 1e+-9 rounding changes the PCG iterates, which
-        // stop at a relative residual of 1e-6: well under a degree.
+        // stop at a relative residual of kFieldTolerance (1e-4): well under a degree.
         EXPECT_LT(worst, s == std::ldexp(1.0, -30) || s == std::ldexp(1.0, 30) ? 1e-9 : 0.01);
+    }
+}
+
+// The fuzzer's disk at 1e-73 (tests/fuzz/field/crashers/disk_scaled_1e-73_*): below
+// kMinMeshSize across, a mesh is a clean error naming its size; just above it
+// (2e-15 across) and at 2e-12 the field is finite and Poincaré–Hopf holds.
+TEST_F(BadMesh, MeshesBelowTheMinimumSizeAreRejectedAboveItWork) {
+    const Mesh disk = makeDisk(4);
+    const std::vector<Face> faces = disk.faces();
+    auto scaledPositions = [&](double s) {
+        std::vector<Vec3> p = disk.positions();
+        for (Vec3 &q : p) q *= s;
+        return p;
+    };
+    for (double s : {1e-73, 1e-20, 1e-16}) {
+        SCOPED_TRACE(s);
+        try {
+            (void)Mesh::fromTriangles(scaledPositions(s), faces, "tiny");
+            ADD_FAILURE() << "accepted a mesh " << 2 * s << " across";
+        } catch (const InputError &e) {
+            EXPECT_NE(std::string(e.what()).find("below the limit of 1e-15"), std::string::npos) << e.what();
+        }
+    }
+    for (double s : {1e-15, 1e-12}) { // 2e-15 and 2e-12 across (the disk has radius 1)
+        SCOPED_TRACE(s);
+        const Mesh m = Mesh::fromTriangles(scaledPositions(s), faces, "small");
+        const TangentFrames frames(m);
+        WarningCapture quiet;
+        const FieldResult r = buildField(frames, FieldSpec{});
+        ASSERT_TRUE(r.field.u.allFinite());
+        const SingularityReport rep = findSingularities(frames, r.field);
+        EXPECT_NEAR(rep.totalIndex(4), 1.0, 1e-6); // a disk: χ = 1
     }
 }
 
