@@ -48,5 +48,7 @@ add_library(rosy_allocator INTERFACE)
 if(NOT (ROSY_SANITIZE OR ROSY_FUZZ))
   # --no-as-needed: the proxy is used through symbol interposition only.
   target_link_options(rosy_allocator INTERFACE "LINKER:--no-as-needed")
-  target_link_libraries(rosy_allocator INTERFACE TBB::tbbmalloc_proxy)
+  target_link_libraries(rosy_allocator INTERFACE TBB::tbbmalloc_proxy TBB::tbbmalloc)
+  # Huge pages for the allocator's large blocks (see the file).
+  target_sources(rosy_allocator INTERFACE ${PROJECT_SOURCE_DIR}/core/huge_pages.cpp)
 endif()
