@@ -128,16 +128,7 @@ const StrokeList *bunnyStrokes() {
         scenes::applyFieldEdits(frames, fr.field, desc.field.edits);
         const field::SingularityReport sing = field::findSingularities(frames, fr.field);
         const RayScene rays(scene.mesh);
-        IllustrationInput in;
-        in.mesh = &scene.mesh;
-        in.frames = &frames;
-        in.field = &fr.field;
-        in.singularities = &sing;
-        in.scene = &rays;
-        in.camera = &scene.camera;
-        in.lights = scene.lights;
-        in.shading = scene.shading;
-        in.style = scene.style;
+        IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sing, rays);
         return std::make_unique<StrokeList>(renderIllustration(in).strokes);
     }();
     return strokes.get();

@@ -117,17 +117,7 @@ struct BunnyScene {
     std::unique_ptr<renderer::RayScene> rays;
     renderer::Illustration il; ///< every stage's output, from renderIllustration
     renderer::IllustrationInput input() const {
-        renderer::IllustrationInput in;
-        in.mesh = &scene.mesh;
-        in.frames = frames.get();
-        in.field = &field.field;
-        in.singularities = &singularities;
-        in.scene = rays.get();
-        in.camera = &scene.camera;
-        in.lights = scene.lights;
-        in.shading = scene.shading;
-        in.style = scene.style;
-        return in;
+        return scenes::illustrationInput(scene, *frames, field.field, singularities, *rays);
     }
 };
 
@@ -263,16 +253,7 @@ static void BM_Render1MFaces4096(benchmark::State &state) {
         lap("singularities");
         const renderer::RayScene rays(scene.mesh);
         lap("bvh");
-        renderer::IllustrationInput in;
-        in.mesh = &scene.mesh;
-        in.frames = &frames;
-        in.field = &fr.field;
-        in.singularities = &sings;
-        in.scene = &rays;
-        in.camera = &scene.camera;
-        in.lights = scene.lights;
-        in.shading = scene.shading;
-        in.style = scene.style;
+        renderer::IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sings, rays);
         t0 = Clock::now();
         const renderer::Illustration il = renderer::renderIllustration(in);
         for (const auto &[stage, v] : il.timingsMs) ms.emplace_back(stage, v);

@@ -399,17 +399,8 @@ void runCompare(const CompareOptions &opt) {
                                                                 seps, scene.camera, fo));
                 continue;
             }
-            renderer::IllustrationInput input;
-            input.mesh = &scene.mesh;
-            input.frames = &frames;
-            input.field = &panel.field;
-            input.singularities = &panel.singularities;
-            input.scene = rayScene.get();
-            input.camera = &scene.camera;
-            input.lights = scene.lights;
-            input.shading = scene.shading;
-            input.style = scene.style;
-            pictures.push_back(renderer::renderIllustration(input).composite);
+            pictures.push_back(renderer::renderIllustration(
+                scenes::illustrationInput(scene, frames, panel.field, panel.singularities, *rayScene)).composite);
         }
     });
 

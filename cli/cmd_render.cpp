@@ -198,16 +198,8 @@ void runRender(const RenderOptions &opt) {
     }
     auto rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
 
-    renderer::IllustrationInput input;
-    input.mesh = &scene.mesh;
-    input.frames = &frames;
-    input.field = &fieldResult.field;
-    input.singularities = &singularities;
-    input.scene = rayScene.get();
-    input.camera = &scene.camera;
-    input.lights = scene.lights;
-    input.shading = scene.shading;
-    input.style = scene.style;
+    renderer::IllustrationInput input =
+        scenes::illustrationInput(scene, frames, fieldResult.field, singularities, *rayScene);
     input.measureHatching = !opt.reportPath.empty(); // only the report reads it
     const renderer::Illustration il = renderer::renderIllustration(input);
     for (const auto &[stage, ms] : il.timingsMs) timings.add(stage, ms);

@@ -1431,6 +1431,23 @@ field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transfor
     return field::Mesh::fromTriangles(std::move(positions), mesh.faces(), mesh.name());
 }
 
+renderer::IllustrationInput illustrationInput(const Scene &scene, const field::TangentFrames &frames,
+                                              const field::RosyField &field,
+                                              const field::SingularityReport &singularities,
+                                              const renderer::RayScene &rays) {
+    renderer::IllustrationInput in;
+    in.mesh = &scene.mesh;
+    in.frames = &frames;
+    in.field = &field;
+    in.singularities = &singularities;
+    in.scene = &rays;
+    in.camera = &scene.camera;
+    in.lights = scene.lights;
+    in.shading = scene.shading;
+    in.style = scene.style;
+    return in;
+}
+
 Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions) {
     Scene scene;
     scene.mesh = desc.mesh.file ? field::loadMesh(desc.mesh.file->value, meshOptions) : makePrimitive(desc.mesh);

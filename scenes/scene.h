@@ -10,6 +10,7 @@
 #include "field/mesh.h"
 #include "field/mesh_io.h"
 #include "renderer/camera.h"
+#include "renderer/illustration.h"
 #include "renderer/shading.h"
 #include "styles/style.h"
 
@@ -246,6 +247,14 @@ struct Scene {
     styles::Style style;
     std::string output;
 };
+
+/// The renderer's input for a built scene, its frames, hatch field, that field's
+/// singularities and the scene's ray-tracing structure (all borrowed: they must
+/// outlive the returned value). Hatching is measured (IllustrationInput::measureHatching).
+renderer::IllustrationInput illustrationInput(const Scene &scene, const field::TangentFrames &frames,
+                                              const field::RosyField &field,
+                                              const field::SingularityReport &singularities,
+                                              const renderer::RayScene &rays);
 
 /// Applies `transform` to every vertex of `mesh` (connectivity unchanged).
 field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transform);

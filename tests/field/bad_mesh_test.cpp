@@ -378,6 +378,28 @@ TEST_F(BadMesh, FacesWithRepeatedVerticesAreDroppedWithAWarning) {
     EXPECT_EQ(m.nFaces(), 4);
 }
 
+namespace {
+/// A FieldSpec per source (curvature, smoothest, design) and Laplace weighting; the
+/// design ones hold one element of `order` at `at`.
+std::vector<FieldSpec> everySourceAndWeighting(const Vec3 &at, int order) {
+    std::vector<FieldSpec> specs;
+    for (LaplaceWeights w : {LaplaceWeights::MeanValue, LaplaceWeights::Cotan})
+        for (FieldSource source : {FieldSource::Curvature, FieldSource::Smoothest, FieldSource::Design}) {
+            FieldSpec spec;
+            spec.weights = w;
+            spec.source = source;
+            if (source == FieldSource::Design) {
+                DesignElement el;
+                el.order = order;
+                el.position = at;
+                spec.elements.push_back(el);
+            }
+            specs.push_back(spec);
+        }
+    return specs;
+}
+} // namespace
+
 TEST_F(BadMesh, NeedleFacesGiveAFiniteFieldOnBothWeightings) {
     // An octahedron with vertex 6 just outside the middle of edge (0, 1) and the
     // needle (0, 1, 6) filling the gap: its corner at 6 is pi - 4e-7, so its
@@ -391,23 +413,12 @@ TEST_F(BadMesh, NeedleFacesGiveAFiniteFieldOnBothWeightings) {
     const Mesh mesh = repairAndBuild(p, f, "needles");
     EXPECT_EQ(computeStats(mesh).eulerCharacteristic, 2);
     const TangentFrames frames(mesh);
-    for (LaplaceWeights w : {LaplaceWeights::MeanValue, LaplaceWeights::Cotan}) {
-        for (FieldSource source : {FieldSource::Curvature, FieldSource::Smoothest, FieldSource::Design}) {
-            FieldSpec spec;
-            spec.weights = w;
-            spec.source = source;
-            if (source == FieldSource::Design) {
-                DesignElement el;
-                el.order = 1;
-                el.position = Vec3(0, 0, 1);
-                spec.elements.push_back(el);
-            }
-            const FieldResult r = buildField(frames, spec);
-            ASSERT_TRUE(r.field.u.allFinite()) << toString(source);
-            const SingularityReport rep = findSingularities(frames, r.field);
-            EXPECT_EQ(rep.indexNumeratorSum, 2 * spec.nSym) << toString(source);
-            for (const Singularity &s : rep.singularities) EXPECT_TRUE(s.position.allFinite());
-        }
+    for (const FieldSpec &spec : everySourceAndWeighting(Vec3(0, 0, 1), 1)) {
+        const FieldResult r = buildField(frames, spec);
+        ASSERT_TRUE(r.field.u.allFinite()) << toString(spec.source);
+        const SingularityReport rep = findSingularities(frames, r.field);
+        EXPECT_EQ(rep.indexNumeratorSum, 2 * spec.nSym) << toString(spec.source);
+        for (const Singularity &s : rep.singularities) EXPECT_TRUE(s.position.allFinite());
     }
 }
 
@@ -701,25 +712,15 @@ TEST_F(BadMesh, ComponentWithOnlyZeroAreaFacesIsAnErrorNotNaN) {
     const Mesh mesh = Mesh::fromTriangles(p, f, "flat-tet");
     WarningCapture capture;
     const TangentFrames frames(mesh);
-    for (LaplaceWeights w : {LaplaceWeights::MeanValue, LaplaceWeights::Cotan}) {
-        for (FieldSource source : {FieldSource::Curvature, FieldSource::Smoothest, FieldSource::Design}) {
-            FieldSpec spec;
-            spec.weights = w;
-            spec.source = source;
-            if (source == FieldSource::Design) {
-                DesignElement el;
-                el.position = Vec3(1, 0, 0);
-                spec.elements.push_back(el);
-            }
-            try {
-                const FieldResult r = buildField(frames, spec);
-                EXPECT_TRUE(r.field.u.allFinite()) << toString(source);
-            } catch (const InputError &e) {
-                const std::string msg = e.what();
-                EXPECT_TRUE(msg.find("zero total area") != std::string::npos ||
-                            (source == FieldSource::Design && msg.find("degenerate face") != std::string::npos))
-                    << msg;
-            }
+    for (const FieldSpec &spec : everySourceAndWeighting(Vec3(1, 0, 0), 0)) {
+        try {
+            const FieldResult r = buildField(frames, spec);
+            EXPECT_TRUE(r.field.u.allFinite()) << toString(spec.source);
+        } catch (const InputError &e) {
+            const std::string msg = e.what();
+            EXPECT_TRUE(msg.find("zero total area") != std::string::npos ||
+                        (spec.source == FieldSource::Design && msg.find("degenerate face") != std::string::npos))
+                << msg;
         }
     }
 }

@@ -31,16 +31,7 @@ TEST(Quality, BunnyDefaultSceneMeetsTheIssueThresholds) {
     const field::SingularityReport sings = field::findSingularities(frames, fr.field);
     const renderer::RayScene rays(scene.mesh);
 
-    renderer::IllustrationInput in;
-    in.mesh = &scene.mesh;
-    in.frames = &frames;
-    in.field = &fr.field;
-    in.singularities = &sings;
-    in.scene = &rays;
-    in.camera = &scene.camera;
-    in.lights = scene.lights;
-    in.shading = scene.shading;
-    in.style = scene.style;
+    renderer::IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sings, rays);
     const renderer::Illustration il = renderer::renderIllustration(in);
 
     const std::string exr = testing::TempDir() + "/quality_bunny.exr";

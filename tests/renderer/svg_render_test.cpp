@@ -51,16 +51,7 @@ Illustration render(const scenes::SceneDesc &desc) {
     field::FieldResult fr = field::buildField(frames, desc.field.spec);
     const field::SingularityReport sing = field::findSingularities(frames, fr.field);
     const RayScene rays(scene.mesh);
-    IllustrationInput in;
-    in.mesh = &scene.mesh;
-    in.frames = &frames;
-    in.field = &fr.field;
-    in.singularities = &sing;
-    in.scene = &rays;
-    in.camera = &scene.camera;
-    in.lights = scene.lights;
-    in.shading = scene.shading;
-    in.style = scene.style;
+    IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sing, rays);
     return renderIllustration(in);
 }
 
