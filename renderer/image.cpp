@@ -1,12 +1,10 @@
 #include "renderer/image.h"
 
-#include "core/parallel.h"
-#include "renderer/large_buffer.h"
-
 #include "core/atomic_file.h"
 #include "core/error.h"
-
+#include "core/parallel.h"
 #include "renderer/image_io.h"
+#include "renderer/large_buffer.h"
 
 #include <algorithm>
 #include <cctype>

@@ -3,9 +3,8 @@
 
 #include "renderer/image_io.h"
 
-#include "core/parallel.h"
-
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <dlfcn.h>
 
