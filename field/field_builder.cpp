@@ -53,7 +53,30 @@ RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCu
     return field;
 }
 
+namespace {
+FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &spec);
+} // namespace
+
 FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec) {
+    try {
+        return buildFieldUnchecked(frames, spec);
+    } catch (const InputError &) {
+        throw;
+    } catch (const IoError &) {
+        throw;
+    } catch (const std::runtime_error &e) {
+        // The solvers report a failed factorization or solve (they check info()).
+        // The fuzzer reached this with valid topology and degenerate geometry
+        // (tests/fuzz/field/crashers/degenerate_*): a rejected mesh, not a bug.
+        throw InputError(FileLoc{frames.mesh().name()},
+                         std::string("the field solver failed on this mesh (") + e.what() + ")",
+                         "its geometry is too degenerate (needle or nearly zero-area faces make the "
+                         "system singular); repair or remesh it");
+    }
+}
+
+namespace {
+FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &spec) {
     const Mesh &mesh = frames.mesh();
     checkSymmetry(spec.nSym, mesh.name());
     FieldResult out;
@@ -125,5 +148,6 @@ FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec) {
     }
     return out;
 }
+} // namespace
 
 } // namespace rosy::field

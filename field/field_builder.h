@@ -60,7 +60,9 @@ RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCu
                          int nSym);
 
 /// Builds the field. \throws InputError for N outside [1, kMaxSymmetry], bad
-/// design elements, or a design source without elements. With the curvature source,
+/// design elements, a design source without elements, or a solver that fails on the
+/// mesh (a factorization or solve on numerically singular, degenerate geometry; the
+/// message names the solver's cause). With the curvature source,
 /// a mesh whose curvatureAnisotropy() is below kMinCurvatureAnisotropy (planar or
 /// nearly umbilic, e.g. a sphere: its principal directions are noise) falls back to
 /// the smoothest field with a `no-curvature-direction` warning.

@@ -724,3 +724,54 @@ TEST_F(BadMesh, ComponentWithOnlyZeroAreaFacesIsAnErrorNotNaN) {
         }
     }
 }
+
+// The fuzzer's degenerate meshes (tests/fuzz/field/crashers/degenerate_*): valid
+// topology, geometry that makes the field system numerically singular (here a cube
+// 1e-18 across with one vertex pulled 1e-6 away, a needle 10^12 times longer than
+// the rest). A solver's failed factorization or solve must reach the user as an
+// InputError naming the mesh and the cause, never as an internal error.
+TEST_F(BadMesh, DegenerateGeometryThatDefeatsTheSolverIsAnInputError) {
+    const std::string off =
+        "OFF\n26 48 0\n-1.0000000000000001e-18 1.0000000000000001e-18 0\n"
+        "-1.0000000000000001e-18 0 -1.0000000000000001e-18\n-1.0000000000000001e-18 0 0\n"
+        "-1.0000000000000001e-18 -1.0000000000000001e-18 0\n"
+        "-1.0000000000000001e-18 0 1.0000000000000001e-18\n"
+        "-1.0000000000000001e-18 -1.0000000000000001e-18 1.0000000000000001e-18\n"
+        "-1.0000000000000001e-18 1.0000000000000001e-18 -1.0000000000000001e-18\n"
+        "-1.0000000000000001e-18 1.0000000000000001e-18 0\n"
+        "-1.0000000000000001e-18 1.0000000000000001e-18 1.0000000000000001e-18\n"
+        "0 1.0000000000000001e-18 0\n1.0000000000000001e-18 0 -1.0000000000000001e-18\n"
+        "1.0000000000000001e-18 0 0\n1.0000000000000001e-18 -1.0000000000000001e-18 0\n"
+        "1.0000000000000001e-18 0 1.0000000000000001e-18\n"
+        "1.0000000000000001e-18 -1.0000000000000001e-18 1.0000000000000001e-18\n"
+        "1.0000000000000001e-18 1.0000000000000001e-18 -1.0000000000000001e-18\n"
+        "1.0000000000000001e-18 1.0000000000000001e-18 0\n"
+        "1.0000000000000001e-18 1.0000000000000001e-18 1.0000000000000001e-18\n"
+        "5.0000000000000004e-19 5.0000000000000004e-19 0\n"
+        "0 -1.0000000000000001e-18 -1.0000000000000001e-18\n"
+        "9.9999999999999995e-07 4.9999999999899995e-07 2.5000000000099996e-07\n"
+        "0 1.0000000000000001e-18 0\n0 1.0000000000000001e-18 -1.0000000000000001e-18\n"
+        "0 1.0000000000000001e-18 1.0000000000000001e-18\n0 0 -1.0000000000000001e-18\n"
+        "0 0 1.0000000000000001e-18\n3 0 3 2\n3 0 2 1\n3 3 5 4\n3 3 4 2\n3 1 2 7\n3 1 7 6\n"
+        "3 2 4 8\n3 2 8 7\n3 9 10 11\n3 9 11 12\n3 12 11 13\n3 12 13 14\n3 10 15 16\n3 10 16 11\n"
+        "3 11 16 17\n3 11 17 13\n3 0 19 18\n3 0 18 3\n3 19 9 12\n3 19 12 18\n3 3 18 20\n3 3 20 5\n"
+        "3 18 12 14\n3 18 14 20\n3 6 7 21\n3 6 21 22\n3 22 21 16\n3 22 16 15\n3 7 8 23\n3 7 23 21\n"
+        "3 21 23 17\n3 21 17 16\n3 0 1 24\n3 0 24 19\n3 1 6 22\n3 1 22 24\n3 19 24 10\n3 19 10 9\n"
+        "3 24 22 15\n3 24 15 10\n3 5 20 25\n3 5 25 4\n3 4 25 23\n3 4 23 8\n3 20 14 13\n3 20 13 25\n"
+        "3 25 13 17\n3 25 17 23\n";
+    WarningCapture quiet;
+    const Mesh mesh = loadMesh(write("needle-cube.off", off));
+    const TangentFrames frames(mesh);
+    for (int nSym : {3, 4, 12}) {
+        FieldSpec spec;
+        spec.nSym = nSym;
+        spec.smoothingLength = 0.04;
+        try {
+            const FieldResult r = buildField(frames, spec);
+            EXPECT_TRUE(r.field.u.allFinite()) << nSym;
+        } catch (const InputError &e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("needle-cube.off"), std::string::npos) << msg;
+        }
+    }
+}
