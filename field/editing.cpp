@@ -10,6 +10,8 @@
 #include <limits>
 #include <queue>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace rosy::field {
 namespace {
@@ -168,8 +170,11 @@ private:
 /// Solves Eq. 14–15 with cotangent weights for the `free` vertices only, every
 /// other value of `u` being a Dirichlet value. The system is the free block of the
 /// Hermitian connection Laplacian, assembled from the free vertices' own edges.
+/// A failed factorization or solve (the solver checks info() and finiteness; it
+/// needs geometry degenerate enough that clamped cotangents lose definiteness) is
+/// an InputError at `where` naming `edit` and the cause; `u` is then untouched.
 void relaxFree(const TangentFrames &frames, int nSym, const std::vector<int> &free,
-               Eigen::VectorXcd &u) {
+               Eigen::VectorXcd &u, const FileLoc &where, const std::string &edit) {
     const Mesh &mesh = frames.mesh();
     const int n = int(free.size());
     std::vector<int> localId(mesh.nVertices(), -1);
@@ -195,7 +200,15 @@ void relaxFree(const TangentFrames &frames, int nSym, const std::vector<int> &fr
     }
     SparseMatrixC K(n, n);
     K.setFromTriplets(trip.begin(), trip.end());
-    const Eigen::VectorXcd x = HermitianSolver(K).solve(rhs);
+    Eigen::VectorXcd x;
+    try {
+        x = HermitianSolver(K).solve(rhs);
+    } catch (const std::runtime_error &e) {
+        throw InputError(where, "cannot " + edit + ": the solve on its region of " + std::to_string(n) +
+                                    " vertices failed (" + e.what() + ")",
+                         "the mesh is too degenerate there (needle or nearly zero-area faces); "
+                         "repair or remesh it, or edit elsewhere");
+    }
     for (int k = 0; k < n; ++k) u[free[k]] = x[k];
 }
 
@@ -253,7 +266,7 @@ EditResult cancelPair(const TangentFrames &frames, RosyField &field, int a, int 
         const std::vector<int> free = region.interiorVertices();
         if (!free.empty()) {
             Eigen::VectorXcd u = field.u;
-            relaxFree(frames, field.nSym, free, u);
+            relaxFree(frames, field.nSym, free, u, where, "cancel " + pair);
             ++result.rounds;
             bool clean = true;
             for (int f : region.faces())
@@ -361,7 +374,7 @@ EditResult moveSingularity(const TangentFrames &frames, RosyField &field, int s,
                 Eigen::VectorXcd u = field.u;
                 const Complex rot = std::polar(1.0, 0.5 * M_PI * turn);
                 for (int v : tf) u[v] = elementValues[v] * rot;
-                relaxFree(frames, field.nSym, free, u);
+                relaxFree(frames, field.nSym, free, u, where, "move " + name);
                 ++result.rounds;
                 bool ok = true;
                 for (int f : region.faces()) {

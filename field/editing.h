@@ -62,8 +62,9 @@ struct EditResult {
 /// \throws InputError (naming both ids and the reason) and leaves `field`
 ///   unchanged if an id is out of range, a == b, the indices are not +1/N and −1/N,
 ///   no disk region avoiding the other singularities joins them, the region has no
-///   interior vertex (both touch the mesh boundary), or no region within
-///   options.maxRounds rings removes them.
+///   interior vertex (both touch the mesh boundary), no region within
+///   options.maxRounds rings removes them, or the region's solve fails on
+///   degenerate geometry (the message names the solver's cause).
 EditResult cancelPair(const TangentFrames &frames, RosyField &field, int a, int b,
                       const EditOptions &options = {});
 
@@ -75,7 +76,8 @@ EditResult cancelPair(const TangentFrames &frames, RosyField &field, int a, int 
 /// \throws InputError and leaves `field` unchanged if `s` is out of range or not
 ///   first order, the target is off the surface (farther than 5% of the bounding-box
 ///   diagonal), lies in another singular face or on the mesh boundary, or no region
-///   within options.maxRounds rings yields exactly one singularity, in the target face.
+///   within options.maxRounds rings yields exactly one singularity, in the target face,
+///   or the region's solve fails on degenerate geometry (naming the solver's cause).
 EditResult moveSingularity(const TangentFrames &frames, RosyField &field, int s, const Vec3 &target,
                            const EditOptions &options = {});
 

@@ -47,8 +47,8 @@ constexpr double kRelaxationTolerance = 1e-6;
 /// triangle is read), reused for many right-hand sides.
 class HermitianSolver {
 public:
-    /// \throws std::runtime_error with CHOLMOD's status if the matrix is not
-    ///   positive definite or the factorization fails.
+    /// \throws std::runtime_error if the factorization fails (Eigen's info(); the
+    ///   matrix is not numerically positive definite).
     explicit HermitianSolver(const SparseMatrixC &matrix);
     ~HermitianSolver();
     HermitianSolver(const HermitianSolver &) = delete;
