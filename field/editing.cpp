@@ -170,9 +170,11 @@ private:
 /// Solves Eq. 14–15 with cotangent weights for the `free` vertices only, every
 /// other value of `u` being a Dirichlet value. The system is the free block of the
 /// Hermitian connection Laplacian, assembled from the free vertices' own edges.
-/// A failed factorization or solve (the solver checks info() and finiteness; it
-/// needs geometry degenerate enough that clamped cotangents lose definiteness) is
-/// an InputError at `where` naming `edit` and the cause; `u` is then untouched.
+/// A failed factorization or solve (the solver checks info() and finiteness) is an
+/// InputError at `where` naming `edit` and the cause; `u` is then untouched. No
+/// input is known to reach it: cotangents clamped to [1e-6, 1e4] keep this block
+/// diagonally dominant with a positive diagonal, and LDLT fails only on an exact
+/// zero pivot. It keeps the error contract of buildField should one appear.
 void relaxFree(const TangentFrames &frames, int nSym, const std::vector<int> &free,
                Eigen::VectorXcd &u, const FileLoc &where, const std::string &edit) {
     const Mesh &mesh = frames.mesh();
