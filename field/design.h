@@ -73,7 +73,7 @@ RosyField designField(const TangentFrames &frames, int nSym,
 /// Solves the transported Laplace system of Eq. 14–15 with Dirichlet rows at
 /// fixed vertices (and the optional guide term). Exposed for topological editing,
 /// which relaxes inside a region with the region's boundary fixed.
-/// \throws std::runtime_error with the solver's message on failure.
+/// \throws SolverFailure with the solver's message on failure.
 Eigen::VectorXcd solveRelaxation(const TangentFrames &frames, int nSym,
                                  const std::vector<char> &fixed, const Eigen::VectorXcd &values,
                                  const DesignOptions &options);

@@ -10,7 +10,6 @@
 #include <limits>
 #include <queue>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 
 namespace rosy::field {
@@ -205,11 +204,9 @@ void relaxFree(const TangentFrames &frames, int nSym, const std::vector<int> &fr
     Eigen::VectorXcd x;
     try {
         x = HermitianSolver(K).solve(rhs);
-    } catch (const std::runtime_error &e) {
-        throw InputError(where, "cannot " + edit + ": the solve on its region of " + std::to_string(n) +
-                                    " vertices failed (" + e.what() + ")",
-                         "the mesh is too degenerate there (needle or nearly zero-area faces); "
-                         "repair or remesh it, or edit elsewhere");
+    } catch (const SolverFailure &e) {
+        throwDegenerateGeometry(
+            where, "cannot " + edit + ": the solve on its region of " + std::to_string(n) + " vertices", e);
     }
     for (int k = 0; k < n; ++k) u[free[k]] = x[k];
 }

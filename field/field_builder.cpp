@@ -2,6 +2,7 @@
 
 #include "core/diagnostics.h"
 #include "core/error.h"
+#include "field/sparse_solver.h"
 
 #include <algorithm>
 #include <chrono>
@@ -60,18 +61,10 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
 FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec) {
     try {
         return buildFieldUnchecked(frames, spec);
-    } catch (const InputError &) {
-        throw;
-    } catch (const IoError &) {
-        throw;
-    } catch (const std::runtime_error &e) {
-        // The solvers report a failed factorization or solve (they check info()).
+    } catch (const SolverFailure &e) {
         // The fuzzer reached this with valid topology and degenerate geometry
         // (tests/fuzz/field/crashers/degenerate_*): a rejected mesh, not a bug.
-        throw InputError(FileLoc{frames.mesh().name()},
-                         std::string("the field solver failed on this mesh (") + e.what() + ")",
-                         "its geometry is too degenerate (needle or nearly zero-area faces make the "
-                         "system singular); repair or remesh it");
+        throwDegenerateGeometry(FileLoc{frames.mesh().name()}, "the field solver", e);
     }
 }
 

@@ -189,7 +189,7 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const TangentFrames &frames, int 
     d.invDiag.resize(d.n);
     for (int i = 0; i < d.n; ++i) d.invDiag[i] = 1.0 / K.coeff(i, i).real();
     d.ldlt.compute(galerkinProduct(K, d.aggregate, d.phase, d.nAgg, d.memberStart, d.members));
-    if (d.ldlt.info() != Eigen::Success) throw std::runtime_error("two-level: coarse factorization failed");
+    if (d.ldlt.info() != Eigen::Success) throw SolverFailure("two-level: coarse factorization failed");
 }
 
 TwoLevelPreconditioner::TwoLevelPreconditioner(const TangentFrames &frames, int nSym,
@@ -206,7 +206,7 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const TangentFrames &frames, int 
     const SparseMatrixC Kc = galerkinProduct(K, d.aggregate, d.phase, d.nAgg, d.memberStart, d.members);
     d.lu.analyzePattern(Kc);
     d.lu.factorize(Kc);
-    if (d.lu.info() != Eigen::Success) throw std::runtime_error("two-level: coarse LU failed");
+    if (d.lu.info() != Eigen::Success) throw SolverFailure("two-level: coarse LU failed");
 }
 
 TwoLevelPreconditioner::~TwoLevelPreconditioner() = default;
@@ -348,8 +348,8 @@ Eigen::VectorXcd solvePcg(const SparseMatrixC &K, const TwoLevelPreconditioner &
     }
     if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, pre.coarseSize()};
     if (!(rNorm <= target) || !x.allFinite())
-        throw std::runtime_error("two-level PCG did not converge in " + std::to_string(maxIterations) +
-                                 " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
+        throw SolverFailure("two-level PCG did not converge in " + std::to_string(maxIterations) +
+                            " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
     return x;
 }
 
@@ -400,8 +400,8 @@ Eigen::VectorXcd solveTwoLevelBicgstab(const TangentFrames &frames, int nSym, co
     }
     if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, pre.coarseSize()};
     if (!(rNorm <= target) || !x.allFinite())
-        throw std::runtime_error("two-level BiCGSTAB did not converge in " + std::to_string(maxIterations) +
-                                 " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
+        throw SolverFailure("two-level BiCGSTAB did not converge in " + std::to_string(maxIterations) +
+                            " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
     return x;
 }
 
@@ -410,7 +410,7 @@ Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, con
                                       const Eigen::VectorXcd &guess, double tolerance) {
     try {
         return solveTwoLevelPcg(frames, nSym, freeId, K, b, guess, tolerance, 1000);
-    } catch (const std::runtime_error &) {
+    } catch (const SolverFailure &) {
         // A factorization always works for positive definite K; it is only slower.
         return HermitianSolver(K).solve(b);
     }
@@ -424,7 +424,7 @@ Eigen::VectorXcd solveGeneralSystem(const TangentFrames &frames, int nSym, const
     if (K.rows() < kDirectBelow) return solveGeneral(SparseMatrixC(K), b);
     try {
         return solveTwoLevelBicgstab(frames, nSym, freeId, K, b, guess, tolerance, 1000);
-    } catch (const std::runtime_error &) {
+    } catch (const SolverFailure &) {
         return solveGeneral(SparseMatrixC(K), b);
     }
 }

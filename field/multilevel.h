@@ -37,7 +37,7 @@ struct PcgReport {
 /// `frames.mesh()` (freeId[v] = row of v, −1 if not in the system).
 class TwoLevelPreconditioner {
 public:
-    /// Hermitian K (both triangles stored). \throws std::runtime_error if the
+    /// Hermitian K (both triangles stored). \throws SolverFailure if the
     /// coarse factorization fails.
     TwoLevelPreconditioner(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                            const SparseMatrixC &K);
@@ -78,14 +78,14 @@ void multiplyHermitian(const SparseMatrixC &K, const Eigen::VectorXcd &x, Eigen:
 
 /// Preconditioned conjugate gradients on Hermitian positive definite K with a
 /// given preconditioner, from `guess` (may be empty). Stops at ‖r‖ ≤ tolerance ‖b‖.
-/// \throws std::runtime_error if it does not converge in maxIterations.
+/// \throws SolverFailure if it does not converge in maxIterations.
 Eigen::VectorXcd solvePcg(const SparseMatrixC &K, const TwoLevelPreconditioner &pre, const Eigen::VectorXcd &b,
                           const Eigen::VectorXcd &guess, double tolerance, int maxIterations,
                           PcgReport *report = nullptr);
 
 /// Solves K x = b for the free vertices of `frames.mesh()` listed by freeId
 /// (K is nFree × nFree, Hermitian, both triangles). Stops at ‖r‖ ≤ tolerance ‖b‖.
-/// `guess` may be empty. \throws std::runtime_error if it does not converge.
+/// `guess` may be empty. \throws SolverFailure if it does not converge.
 Eigen::VectorXcd solveTwoLevelPcg(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                                   const SparseMatrixC &K, const Eigen::VectorXcd &b,
                                   const Eigen::VectorXcd &guess, double tolerance = 1e-6,
@@ -93,7 +93,7 @@ Eigen::VectorXcd solveTwoLevelPcg(const TangentFrames &frames, int nSym, const s
 
 /// BiCGSTAB (van der Vorst 1992) with the two-level preconditioner on both
 /// half-steps, for a general K (by rows); stops at ‖b − Kx‖ ≤ tolerance ‖b‖.
-/// \throws std::runtime_error if it breaks down or does not converge in maxIterations.
+/// \throws SolverFailure if it breaks down or does not converge in maxIterations.
 Eigen::VectorXcd solveTwoLevelBicgstab(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                                        const SparseMatrixRowC &K, const Eigen::VectorXcd &b,
                                        const Eigen::VectorXcd &guess, double tolerance = 1e-6,

@@ -240,7 +240,7 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
             Ax /= xNorm;
             lambda = std::real(blockDot(x, Ax));
         }
-    } catch (const std::runtime_error &) {
+    } catch (const SolverFailure &) {
     }
     return inverseIteration(A, m, eps, iterations);
 }

@@ -36,7 +36,7 @@ struct SmoothestResult {
 /// two-level preconditioner (started from the coarse eigenvector), stopped at a
 /// residual of 1e-3 λ (eigenvalue error quadratic in it, ~1e-6 λ²/gap); inverse power
 /// iteration on one sparse factorization is the fallback if it stalls.
-/// \throws InputError for a component of zero total area; std::runtime_error
+/// \throws InputError for a component of zero total area; SolverFailure
 /// naming the cause if a factorization fails.
 SmoothestResult smoothestField(const TangentFrames &frames, int nSym);
 

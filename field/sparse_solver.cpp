@@ -22,6 +22,12 @@ void pinBlasThreads() {
 }
 } // namespace
 
+void throwDegenerateGeometry(const FileLoc &where, const std::string &what, const SolverFailure &cause) {
+    throw InputError(where, what + " failed on this mesh (" + cause.what() + ")",
+                     "its geometry is too degenerate (needle or nearly zero-area faces make the "
+                     "system singular); repair or remesh it");
+}
+
 struct HermitianSolver::Impl {
     Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> ldlt;
 };
@@ -29,7 +35,7 @@ struct HermitianSolver::Impl {
 HermitianSolver::HermitianSolver(const SparseMatrixC &matrix) : m_impl(std::make_unique<Impl>()) {
     m_impl->ldlt.compute(matrix);
     if (m_impl->ldlt.info() != Eigen::Success)
-        throw std::runtime_error("sparse LDLT factorization failed (matrix of size " +
+        throw SolverFailure("sparse LDLT factorization failed (matrix of size " +
                                  std::to_string(matrix.rows()) + " not positive definite?)");
 }
 
@@ -38,7 +44,7 @@ HermitianSolver::~HermitianSolver() = default;
 Eigen::VectorXcd HermitianSolver::solve(const Eigen::VectorXcd &rhs) const {
     Eigen::VectorXcd x = m_impl->ldlt.solve(rhs);
     if (m_impl->ldlt.info() != Eigen::Success || !x.allFinite())
-        throw std::runtime_error("sparse LDLT solve failed");
+        throw SolverFailure("sparse LDLT solve failed");
     return x;
 }
 
@@ -47,9 +53,9 @@ Eigen::VectorXcd solveGeneral(const SparseMatrixC &matrix, const Eigen::VectorXc
     Eigen::UmfPackLU<SparseMatrixC> lu;
     lu.compute(matrix);
     if (lu.info() != Eigen::Success)
-        throw std::runtime_error("UMFPACK LU factorization failed (singular system: a component without constraints?)");
+        throw SolverFailure("UMFPACK LU factorization failed (singular system: a component without constraints?)");
     Eigen::VectorXcd x = lu.solve(rhs);
-    if (lu.info() != Eigen::Success || !x.allFinite()) throw std::runtime_error("UMFPACK solve failed");
+    if (lu.info() != Eigen::Success || !x.allFinite()) throw SolverFailure("UMFPACK solve failed");
     return x;
 }
 

@@ -18,15 +18,32 @@
 /// any factorization here (a factorization of bunny00 alone costs about as
 /// much as the whole iterative solve).
 
+#include "core/error.h"
 #include "field/rosy.h"
 
 #include <Eigen/Sparse>
 
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 namespace rosy::field {
 
 using SparseMatrixC = Eigen::SparseMatrix<Complex>;
+
+/// A factorization or iterative solve failed (Eigen's info(), non-finite values,
+/// no convergence). Thrown only by the solvers of this file and multilevel.h, so a
+/// caller can tell a failed solve (degenerate input) from any other error (a bug).
+class SolverFailure : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// The user-facing error for a failed solve: `WHAT failed on this mesh (CAUSE)` at
+/// `where`, with the hint to repair the geometry. `what` names the solve ("the field
+/// solver", "cannot cancel #1 … and #2 …: the solve on its region of 40 vertices").
+[[noreturn]] void throwDegenerateGeometry(const FileLoc &where, const std::string &what,
+                                          const SolverFailure &cause);
 
 /// Relative residual ‖b − Kx‖ ≤ kFieldTolerance ‖b‖ at which the field solves
 /// stop. Chosen from the accuracy a direction field needs, measured against a
@@ -47,13 +64,13 @@ constexpr double kRelaxationTolerance = 1e-6;
 /// triangle is read), reused for many right-hand sides.
 class HermitianSolver {
 public:
-    /// \throws std::runtime_error if the factorization fails (Eigen's info(); the
+    /// \throws SolverFailure if the factorization fails (Eigen's info(); the
     ///   matrix is not numerically positive definite).
     explicit HermitianSolver(const SparseMatrixC &matrix);
     ~HermitianSolver();
     HermitianSolver(const HermitianSolver &) = delete;
     HermitianSolver &operator=(const HermitianSolver &) = delete;
-    /// \throws std::runtime_error if the solve fails or produces non-finite values.
+    /// \throws SolverFailure if the solve fails or produces non-finite values.
     Eigen::VectorXcd solve(const Eigen::VectorXcd &rhs) const;
 
 private:
@@ -61,7 +78,7 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
-/// Solves a general square sparse system once (LU). \throws std::runtime_error.
+/// Solves a general square sparse system once (LU). \throws SolverFailure.
 Eigen::VectorXcd solveGeneral(const SparseMatrixC &matrix, const Eigen::VectorXcd &rhs);
 
 } // namespace rosy::field
