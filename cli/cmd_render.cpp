@@ -215,7 +215,8 @@ void runRender(const RenderOptions &opt) {
         for (const std::string &path : rasterPaths) {
             if (isExrPath(path))
                 renderer::writeImage(renderer::illustrationExr(il), path,
-                                     renderer::inkExrWriteOptions(renderer::nominalHatchSpacingPx(scene.style.hatch)));
+                                     renderer::inkExrWriteOptions(renderer::nominalHatchSpacingPx(scene.style.hatch),
+                                                                 scene.style.hatch.crossDensity));
             else
                 renderer::writeImage(il.composite, path);
         }
@@ -232,6 +233,8 @@ void runRender(const RenderOptions &opt) {
         json.field("ink_length_px", il.hatch.inkLengthPx);
         json.field("min_spacing_violations", il.hatch.minSpacingViolations);
         json.field("strokes_near_singularities", il.hatch.strokesNearSingularities);
+        json.field("stubs", il.hatch.stubs);
+        json.field("stub_fraction", il.hatch.stubFraction);
         json.field("singularities", int(singularities.singularities.size()));
         json.field("symmetry", fieldResult.field.nSym);
         if (svgReport) {

@@ -34,8 +34,23 @@ constexpr double kMaxStepPx = 2.0;
 constexpr double kDepthJump = 0.03;
 constexpr double kDepthJumpWithNormal = 0.01;
 constexpr double kNormalJumpCos = 0.5;
+/// A seed keeps this many d_sep from same-direction lines: slightly under one, so a
+/// seed placed at exactly d_sep from its parent is not rejected by rounding; the hole
+/// filling pass (Hatcher::fillHoles) accepts less room.
+constexpr double kSeedClearance = 0.98;
+constexpr double kFillClearance = 0.7;
+/// The hole-filling pass keeps strokes from two d_sep on: a finger or a fold in
+/// shadow has no room for longer ones, and left empty it reads as a light patch.
+constexpr double kFillMinLengthRatio = 2.0;
+/// Range of tone (target density) over which the ends of each family's strokes are
+/// staggered, centred on its threshold (highlightDensity, crossDensity); the second
+/// family's reaches half of it below crossDensity, where the first family's tone
+/// rule still applies (its lines never cross there).
+constexpr double kEndStagger[2] = {0.04, 0.08};
 /// Tapered ends keep this fraction of the width, so a stroke does not end in nothing.
 constexpr double kTaperFloor = 0.2;
+/// Longest taper at each end of a stroke, in stroke widths.
+constexpr double kMaxTaperWidths = 3.0;
 
 float clampDensity(float d) { return d == d ? std::clamp(d, 0.f, 1.f) : 0.f; }
 
@@ -154,8 +169,8 @@ struct Disc {
     double radius;
 };
 
-/// Keep-away discs of the visible singularities: radius d_sep at the singularity's
-/// own tone. `shrink` < 1 gives the measuring tolerance.
+/// Keep-away discs of the visible singularities: radius d_sep at the darkest tone
+/// within d_sep of the singularity's own tone. `shrink` < 1 gives the measuring tolerance.
 std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<float> &density,
                                    const styles::HatchStyle &style, double shrink) {
     std::vector<Disc> discs;
@@ -163,8 +178,19 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
         if (!s.visible) continue;
         const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
         const int y = std::clamp(int(std::floor(s.pRaster.y())), 0, field.height - 1);
-        const double d = clampDensity(density[size_t(field.index(x, y))]);
-        discs.push_back({s.pRaster, shrink * localSpacingPx(d, style)});
+        // d_sep at the singularity's own tone, unless darker tone lies within that
+        // radius: a singularity on a light part beside a dark one (the tip of a horn
+        // against a shadowed head) must not clear a light-tone disc out of the shadow.
+        const double r0 = localSpacingPx(clampDensity(density[size_t(field.index(x, y))]), style);
+        double darkest = 0.0;
+        const int ri = int(std::ceil(r0));
+        for (int yy = std::max(0, y - ri); yy <= std::min(field.height - 1, y + ri); ++yy)
+            for (int xx = std::max(0, x - ri); xx <= std::min(field.width - 1, x + ri); ++xx) {
+                const double dx = xx + 0.5 - s.pRaster.x(), dy = yy + 0.5 - s.pRaster.y();
+                if (dx * dx + dy * dy <= r0 * r0)
+                    darkest = std::max(darkest, double(clampDensity(density[size_t(field.index(xx, yy))])));
+            }
+        discs.push_back({s.pRaster, shrink * localSpacingPx(darkest, style)});
     }
     return discs;
 }
@@ -181,6 +207,10 @@ public:
         m_offSin = std::sin(a);
         m_rotated = style.angleOffsetDeg != 0.0;
         buildBlocked(gbuffer);
+        m_crossWeight.resize(field.nPixels());
+        parallelFor(0, int64_t(field.nPixels()), [&](int64_t i) {
+            m_crossWeight[size_t(i)] = field.valid[size_t(i)] ? float(crossWeight(field, size_t(i))) : 0.0f;
+        }, 4096);
         m_discs = singularityDiscs(field, density, style, 1.0);
         // Pixels a disc may reach, so the exact test runs only near singularities.
         m_nearDisc.assign(field.nPixels(), 0);
@@ -202,11 +232,68 @@ public:
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
                 const Vec2 q(x, y);
+                m_threshold = baseThreshold();
                 if (!eligible(q)) continue;
                 Vec2 heading;
                 if (!scanHeading(q, heading)) continue;
                 if (trySeed(q, heading)) propagate();
             }
+    }
+
+    /// Last pass: holes in cross-hatched tone. Jobard–Lefer seeds need a full d_sep of
+    /// room, so wedges between diverging lines narrower than 2 d_sep stay empty; in a
+    /// dark region such a wedge reads as a light crack. Any point of cross tone with no
+    /// line of either family within kFillClearance d_sep is seeded along both screen
+    /// directions with that clearance (lines still keep d_test from their neighbours).
+    void fillHoles() {
+        m_family = 0;
+        m_seedClearance = kFillClearance;
+        m_minLengthRatio = kFillMinLengthRatio;
+        const double stride = 0.5 * std::max(1.0, m_style.minSpacingPx);
+        for (double y = 0.5 * stride; y < m_field.height; y += stride)
+            for (double x = 0.5 * stride; x < m_field.width; x += stride) {
+                const Vec2 q(x, y);
+                m_threshold = baseThreshold();
+                if (!eligible(q)) continue;
+                const int i = pixelIndex(q);
+                if (singleTone(i)) continue;
+                const double r = kFillClearance * spacingAt(i);
+                if (m_grid.any(q, r, [&](const Sample &s) { return (s.p - q).squaredNorm() < r * r; })) continue;
+                const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
+                Vec2 h(d0.x(), d0.y());
+                if (m_rotated) h = rotate(h, m_offCos, m_offSin);
+                if (trySeed(q, h) || trySeed(q, Vec2(-h.y(), h.x()))) propagate();
+            }
+        m_seedClearance = kSeedClearance;
+        m_minLengthRatio = kStubLengthRatio;
+    }
+
+    /// Layers by direction. In cross tone a first-family line may cross first-family
+    /// lines traced before it (where two fronts of the cross field's labels meet); such
+    /// a line is cross-hatching, so when most of its samples cross earlier first-family
+    /// lines it moves to family 1. Creation order decides, so the result is deterministic.
+    void relabelCrossings() {
+        std::vector<uint8_t> moved(m_strokes.size(), 0);
+        for (size_t k = 0; k < m_strokes.size(); ++k) {
+            if (m_strokes[k].family != 0) continue;
+            const std::vector<Vec2> &pts = m_strokes[k].points;
+            const std::vector<Vec2> &tans = m_tangents[k];
+            size_t crossing = 0;
+            for (size_t v = 0; v < pts.size(); ++v) {
+                const int i = pixelIndex(pts[v]);
+                if (i < 0) continue;
+                const double r = kTestRatio * familySpacingPx(densityAt(i), 0, m_style, m_crossWeight[size_t(i)]);
+                if (m_grid.any(pts[v], r, [&](const Sample &s) {
+                        return s.stroke < int(k) && s.family == 0 && !moved[size_t(s.stroke)] &&
+                               std::abs(s.t.dot(tans[v])) < kSameFamilyCos && (s.p - pts[v]).squaredNorm() < r * r;
+                    }))
+                    ++crossing;
+            }
+            if (2 * crossing > pts.size()) {
+                moved[k] = 1;
+                m_strokes[k].family = 1;
+            }
+        }
     }
 
     std::vector<Stroke> takeStrokes() { return std::move(m_strokes); }
@@ -218,7 +305,9 @@ private:
         return m_field.index(x, y);
     }
     double densityAt(int i) const { return clampDensity(m_density[size_t(i)]); }
-    double spacingAt(int i) const { return localSpacingPx(densityAt(i), m_style); }
+    double spacingAt(int i) const {
+        return familySpacingPx(densityAt(i), m_family, m_style, m_crossWeight[size_t(i)]);
+    }
 
     bool inDisc(const Vec2 &q) const {
         const int i = pixelIndex(q);
@@ -228,11 +317,23 @@ private:
         return false;
     }
 
-    /// A point a stroke of the current family may occupy.
+    /// The density from which the current family hatches: highlightDensity for the
+    /// first, crossDensity for the second.
+    double baseThreshold() const { return m_family == 0 ? m_style.highlightDensity : m_style.crossDensity; }
+
+    /// A stroke's own threshold: the family's ± half kEndStagger at random, so
+    /// the strokes that end at a tone edge end at different tones (Hertzmann & Zorin
+    /// 2000 stagger them) instead of along one iso-line, which reads as a hard edge.
+    void drawThreshold() {
+        m_threshold = baseThreshold() + kEndStagger[m_family] * (random01(m_seed, m_attempts++, 0x5eedu) - 0.5);
+    }
+
+    /// A point a stroke of the current family may occupy (tone at least m_threshold).
     bool eligible(const Vec2 &q) const {
         const int i = pixelIndex(q);
         if (i < 0 || m_blocked[size_t(i)]) return false;
-        if (hatchFamilies(densityAt(i), m_style) <= m_family) return false;
+        if (hatchFamilies(densityAt(i), m_style) <= m_family || densityAt(i) < m_threshold) return false;
+        if (m_family == 1 && m_crossWeight[size_t(i)] <= 0.0f) return false;
         return !inDisc(q);
     }
 
@@ -256,20 +357,25 @@ private:
             const double selfSkip = 2.0 * rr;
             if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
             if (std::abs(s.t.dot(t)) >= kSameFamilyCos) return true;
-            return s.family == m_family || (singleTone && s.family == 0);
+            return singleTone && (s.family == 0 || s.family == m_family);
         });
     }
 
-    bool singleTone(int i) const { return hatchFamilies(densityAt(i), m_style) < 2; }
+    /// Where the tone asks for one family, or the two screen directions have folded
+    /// together (crossWeight 0), lines of the first family must not cross.
+    bool singleTone(int i) const {
+        return hatchFamilies(densityAt(i), m_style) < 2 || m_crossWeight[size_t(i)] <= 0.0f;
+    }
 
     /// Heading for a seed with no parent line: continue the look of nearby lines
     /// (family 1 crosses family 0), else the field's labelled direction.
     bool scanHeading(const Vec2 &q, Vec2 &heading) const {
         const int i = pixelIndex(q);
         const double dSep = spacingAt(i);
-        // A same-family line within d_sep would reject any seed here: skip the wider search.
+        // A same-family line within d_sep would reject any seed here: skip the wider
+        // search. (In cross tone only same-direction lines block, in either direction.)
         const double rNear = 0.98 * dSep;
-        if (m_grid.any(q, rNear, [&](const Sample &s) {
+        if (m_family == 0 && m_grid.any(q, rNear, [&](const Sample &s) {
                 return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
             }))
             return false;
@@ -304,13 +410,14 @@ private:
     }
 
     bool trySeed(const Vec2 &q, const Vec2 &heading) {
+        drawThreshold();
         if (!eligible(q)) return false;
         Vec2 dir;
         if (!direction(q, heading, dir)) return false;
         const int i = pixelIndex(q);
         // Slightly under d_sep: a seed placed at exactly d_sep from its parent must not
         // be rejected by its own parent through rounding.
-        if (tooClose(q, dir, 0.98 * spacingAt(i), -1, 0, singleTone(i))) return false;
+        if (tooClose(q, dir, m_seedClearance * spacingAt(i), -1, 0, singleTone(i))) return false;
         return traceStroke(q, dir);
     }
 
@@ -381,7 +488,15 @@ private:
         extend(seed, dir, 1.0, id, fwd);
         extend(seed, -dir, -1.0, id, bwd);
         const double length = (fwd.empty() ? 0.0 : fwd.back().arc) - (bwd.empty() ? 0.0 : bwd.back().arc);
-        if (length < std::max(m_style.minLengthPx, 1e-9) || fwd.size() + bwd.size() < 1) {
+        // Shortest stroke kept: the style's minLengthPx, and kStubLengthRatio times its
+        // mean d_sep (as measureHatches() takes it), so no dash much shorter than the
+        // spacing is wide stays; the room is left to seeds that make longer lines.
+        double meanDTest = s0.dTest;
+        for (const Sample &s : fwd) meanDTest += s.dTest;
+        for (const Sample &s : bwd) meanDTest += s.dTest;
+        meanDTest /= double(1 + fwd.size() + bwd.size());
+        const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
+        if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.samples().size() > before) m_grid.popBack();
             return false;
         }
@@ -445,11 +560,16 @@ private:
     uint32_t m_seed;
     SampleGrid m_grid;
     std::vector<uint8_t> m_blocked;
+    std::vector<float> m_crossWeight; // crossWeight() per pixel
     std::vector<Disc> m_discs;
     std::vector<uint8_t> m_nearDisc;
     double m_offCos = 1, m_offSin = 0;
     bool m_rotated = false;
     int m_family = 0;
+    double m_seedClearance = kSeedClearance;
+    double m_minLengthRatio = kStubLengthRatio; // shortest stroke kept, in d_sep
+    double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
+    uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
     std::vector<Stroke> m_strokes;
     std::vector<std::vector<Vec2>> m_tangents;
     size_t m_next = 0;
@@ -461,7 +581,13 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
     std::vector<double> arc(n, 0.0);
     for (size_t k = 1; k < n; ++k) arc[k] = arc[k - 1] + (stroke.points[k] - stroke.points[k - 1]).norm();
     const double length = arc.back();
-    const double taperLen = std::clamp(style.taper, 0.0, 0.5) * length;
+    // The taper is a share of the stroke's length, but never longer than
+    // kMaxTaperWidths line widths: where many long strokes end together (along a
+    // silhouette, a tone edge, a fold) long thin ends would add up to a light band.
+    const double taperFrac = length > 0 ? std::min(std::clamp(style.taper, 0.0, 0.5),
+                                                   kMaxTaperWidths * style.strokeWidthPx / length)
+                                        : 0.0;
+    const double taperLen = taperFrac * length;
     const double ph[4] = {2 * M_PI * random01(seed, stroke.id, 0), 2 * M_PI * random01(seed, stroke.id, 1),
                           2 * M_PI * random01(seed, stroke.id, 2), 2 * M_PI * random01(seed, stroke.id, 3)};
     // Two incommensurate sines: smooth, never periodic over a stroke, bounded by 1.
@@ -472,7 +598,7 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
     // smoothstep profile averages kTaperFloor + (1 − kTaperFloor) / 2, so the whole
     // stroke averages 1 − taper (1 − kTaperFloor) of its peak. Dividing by that
     // keeps the mean width at strokeWidthPx, the width the spacing formula assumes.
-    const double meanProfile = 1.0 - std::clamp(style.taper, 0.0, 0.5) * (1.0 - kTaperFloor);
+    const double meanProfile = 1.0 - taperFrac * (1.0 - kTaperFloor);
     stroke.widths.resize(n);
     for (size_t k = 0; k < n; ++k) {
         double profile = 1.0;
@@ -519,8 +645,33 @@ double maxHatchDensity(const styles::HatchStyle &style) {
     return cross ? 1.0 - (1.0 - perFamily) * (1.0 - perFamily) : perFamily;
 }
 
+double crossWeight(const ScreenField &field, size_t pixel) {
+    const Eigen::Vector2f &d0 = field.dir0[pixel], &d1 = field.dir1[pixel];
+    const double c = std::min(1.0, std::abs(double(d0.dot(d1))));
+    const double angle = std::acos(c) * 180.0 / M_PI;
+    const double t = std::clamp((angle - kCrossCollapseDeg) / kCrossCollapseBandDeg, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+std::array<double, 2> familyCoverage(double density, const styles::HatchStyle &style, double crossWeight) {
+    const int families = hatchFamilies(density, style);
+    if (families == 0) return {0.0, 0.0};
+    const double rho = std::min(density, 1.0);
+    if (families == 1 || !(crossWeight > 0)) return {rho, 0.0};
+    const double t = std::clamp((rho - style.crossDensity) / kCrossFeatherBand, 0.0, 1.0);
+    const double b = std::min(crossWeight, 1.0) * t * t * (3.0 - 2.0 * t) * (1.0 - std::sqrt(1.0 - rho));
+    return {1.0 - (1.0 - rho) / (1.0 - b), b};
+}
+
+double familySpacingPx(double density, int family, const styles::HatchStyle &style, double crossWeight) {
+    const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
+    const double coverage = familyCoverage(density, style, crossWeight)[family == 0 ? 0 : 1];
+    if (!(coverage > 0)) return hi;
+    return std::clamp(style.strokeWidthPx / coverage, lo, hi);
+}
+
 double localSpacingPx(double density, const styles::HatchStyle &style) {
-    return hatchSpacingPx(density, std::max(1, hatchFamilies(density, style)), style);
+    return familySpacingPx(density, 0, style);
 }
 
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
@@ -537,6 +688,8 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
         Hatcher hatcher(field, targetDensity, gbuffer, style, seed);
         hatcher.traceFamily(0);
         hatcher.traceFamily(1);
+        hatcher.fillHoles();
+        hatcher.relabelCrossings();
         out.strokes = hatcher.takeStrokes();
         // Each stroke's finish depends only on itself and (seed, id): safe in parallel.
         parallelFor(0, int64_t(out.strokes.size()),
@@ -562,11 +715,31 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
     }
     if (hatch.empty() || field.nPixels() == 0) return r;
 
-    auto dTestAt = [&](const Vec2 &p) {
+    // The local spacing is the first family's d_sep there (the densest hatching the
+    // tone asks for): strokes carry a family label for their layer, but a line can
+    // change layer after tracing (relabelled crossings), so the measure does not
+    // depend on which family traced it.
+    auto spacingAt = [&](const Vec2 &p) {
         const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
         const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
-        return kTestRatio * localSpacingPx(clampDensity(targetDensity[size_t(field.index(x, y))]), style);
+        const size_t i = size_t(field.index(x, y));
+        const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+        return familySpacingPx(clampDensity(targetDensity[i]), 0, style, w);
     };
+    auto dTestAt = [&](const Vec2 &p) { return kTestRatio * spacingAt(p); };
+
+    // Stubs: strokes shorter than kStubLengthRatio local spacings.
+    for (int k : hatch) {
+        const Stroke &s = list.strokes[size_t(k)];
+        double length = 0.0, spacing = 0.0;
+        for (size_t i = 0; i < s.points.size(); ++i) {
+            if (i > 0) length += (s.points[i] - s.points[i - 1]).norm();
+            spacing += spacingAt(s.points[i]);
+        }
+        spacing /= double(s.points.size());
+        if (length < kStubLengthRatio * spacing) ++r.stubs;
+    }
+    r.stubFraction = double(r.stubs) / double(hatch.size());
 
     // Segment grid, independent of the tracer's sample grid: every segment is entered
     // in each cell its bounding box touches.

@@ -23,6 +23,7 @@
 #include "renderer/strokes.h"
 #include "styles/style.h"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -39,7 +40,14 @@ struct HatchReport {
     int minSpacingViolations = 0;
     /// Strokes that enter the disc of radius d_sep around a visible projected singularity.
     int strokesNearSingularities = 0;
+    /// Stubs: hatch strokes shorter than kStubLengthRatio × their local spacing (the
+    /// mean of familySpacingPx over the stroke's vertices), and their share of strokes.
+    int stubs = 0;
+    double stubFraction = 0.0;
 };
+
+/// A hatch stroke shorter than this many local spacings reads as a dash, not a line.
+inline constexpr double kStubLengthRatio = 4.0;
 
 /// Number of hatch families the style asks for at ink density `density` in [0, 1]:
 /// 0 below highlightDensity, 2 at or above crossDensity, else 1. NaN counts as 0.
@@ -55,8 +63,41 @@ double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &s
 /// hatching can actually reach instead of a darkness it can only fall short of.
 double maxHatchDensity(const styles::HatchStyle &style);
 
-/// d_sep of the hatches at `density` (hatchSpacingPx with hatchFamilies, at least
-/// one family): the radius of the keep-away disc around singularities.
+/// Width (in target density) of the band above crossDensity over which the second
+/// family fades in: its share of the ink grows from nothing at crossDensity to an
+/// even split at crossDensity + kCrossFeatherBand (Hertzmann & Zorin 2000 add the
+/// cross family gradually; a hard switch draws a visible edge where it starts).
+inline constexpr double kCrossFeatherBand = 0.15;
+
+/// Ink coverage of each family at `density`, {family 0, family 1}. Below
+/// crossDensity family 0 alone covers the density; above it family 1's coverage is
+/// smoothstep((ρ − c) / kCrossFeatherBand) · (1 − √(1 − ρ)) and family 0 covers the
+/// rest, so that 1 − (1 − a)(1 − b) = ρ everywhere and both are continuous in ρ.
+/// Zero where hatchFamilies() is 0.
+/// `crossWeight` in [0, 1] scales family 1's share (crossWeight()); 0 gives all the
+/// ink to family 0 at single-family spacing.
+std::array<double, 2> familyCoverage(double density, const styles::HatchStyle &style, double crossWeight = 1.0);
+
+/// Screen angle (degrees) between the two field directions below which they no
+/// longer read as crossing lines (the same-direction test treats lines within 55° as
+/// one family), and the band above it over which crossWeight() rises from 0 to 1.
+/// Toward a silhouette foreshortening folds both members of a cross field onto the
+/// silhouette's direction, so the second family cannot be drawn there; the first
+/// then carries the whole tone at single-family spacing.
+inline constexpr double kCrossCollapseDeg = 55.0;
+inline constexpr double kCrossCollapseBandDeg = 20.0;
+
+/// How far the second family can be drawn at `pixel` of `field`: smoothstep of the
+/// angle between dir0 and dir1 over [kCrossCollapseDeg, + kCrossCollapseBandDeg].
+double crossWeight(const ScreenField &field, size_t pixel);
+
+/// d_sep (px) of family `family` (0 or 1) at `density`: strokeWidthPx over its
+/// familyCoverage(), clamped to [minSpacingPx, maxSpacingPx]. Both the tracer and
+/// measureHatches() use it.
+double familySpacingPx(double density, int family, const styles::HatchStyle &style, double crossWeight = 1.0);
+
+/// d_sep of the first family at `density` (familySpacingPx of family 0), the
+/// densest hatching there: the radius of the keep-away disc around singularities.
 double localSpacingPx(double density, const styles::HatchStyle &style);
 
 /// Traces the hatches.

@@ -61,6 +61,8 @@ InkMaps readInkMaps(const std::string &path) {
     }
     float spacing = in->floatAttribute(kHatchSpacingAttribute, 0.0f);
     maps.hatchSpacingPx = std::isfinite(spacing) && spacing > 0.0f ? double(spacing) : 0.0;
+    const float cross = in->floatAttribute(kCrossDensityAttribute, std::nanf(""));
+    if (std::isfinite(cross)) maps.crossDensity = double(cross);
     return maps;
 }
 
@@ -267,6 +269,109 @@ std::vector<std::vector<double>> lineDistances(const InkMaps &maps, const std::v
     return perProfile;
 }
 
+/// Separable Gaussian of σ = sigma (kernel cut at 3σ), zero outside the image.
+std::vector<float> gaussianBlur(const std::vector<float> &v, Grid g, double sigma) {
+    const int r = std::max(1, int(std::ceil(3.0 * sigma)));
+    std::vector<float> k(size_t(2 * r + 1));
+    double sum = 0.0;
+    for (int i = -r; i <= r; ++i) sum += k[size_t(i + r)] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
+    for (float &x : k) x = float(x / sum);
+    std::vector<float> tmp(v.size()), out(v.size());
+    parallelFor(0, g.height, [&](int64_t y) {
+        const size_t row = size_t(y) * size_t(g.width);
+        for (int x = 0; x < g.width; ++x) {
+            double acc = 0.0;
+            for (int i = std::max(-r, -x); i <= std::min(r, g.width - 1 - x); ++i)
+                acc += double(k[size_t(i + r)]) * v[row + size_t(x + i)];
+            tmp[row + size_t(x)] = float(acc);
+        }
+    }, 16);
+    parallelFor(0, g.height, [&](int64_t yy) {
+        const int y = int(yy);
+        for (int x = 0; x < g.width; ++x) {
+            double acc = 0.0;
+            for (int i = std::max(-r, -y); i <= std::min(r, g.height - 1 - y); ++i)
+                acc += double(k[size_t(i + r)]) * tmp[size_t(y + i) * size_t(g.width) + size_t(x)];
+            out[size_t(y) * size_t(g.width) + size_t(x)] = float(acc);
+        }
+    }, 16);
+    return out;
+}
+
+/// seam_fraction (see InspectResult::seamFraction).
+void measureSeams(const InkMaps &maps, Grid g, const InspectOptions &options, InspectResult &res) {
+    const size_t n = g.size();
+    const double cross = res.crossDensity;
+    // Pixels at least seamEdgeDistancePx from anything off the object (or the frame).
+    const double rEdge = options.seamEdgeDistancePx;
+    const int ri = int(std::ceil(rEdge));
+    std::vector<std::pair<int, int>> disc;
+    for (int dy = -ri; dy <= ri; ++dy)
+        for (int dx = -ri; dx <= ri; ++dx)
+            if (dx * dx + dy * dy <= rEdge * rEdge) disc.emplace_back(dx, dy);
+    auto onObject = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < g.width && y < g.height && maps.mask[size_t(y) * size_t(g.width) + size_t(x)] > 0.5f;
+    };
+    std::vector<uint8_t> candidate(n, 0);
+    std::vector<float> m(n), cm(n);
+    for (size_t i = 0; i < n; ++i) {
+        m[i] = maps.mask[i] > 0.5f ? 1.0f : 0.0f;
+        cm[i] = m[i] * std::clamp(maps.coverage[i], 0.0f, 1.0f);
+    }
+    const std::vector<float> bm = gaussianBlur(m, g, options.seamBlurSigmaPx);
+    const std::vector<float> bcm = gaussianBlur(cm, g, options.seamBlurSigmaPx);
+    std::vector<long long> crossPerRow(size_t(g.height), 0);
+    parallelFor(0, g.height, [&](int64_t yy) {
+        const int y = int(yy);
+        for (int x = 0; x < g.width; ++x) {
+            const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+            if (m[i] == 0.0f || !(maps.target[i] >= cross)) continue;
+            bool interior = true;
+            for (const auto &[dx, dy] : disc)
+                if (!onObject(x + dx, y + dy)) {
+                    interior = false;
+                    break;
+                }
+            if (!interior) continue;
+            ++crossPerRow[size_t(y)];
+            const double blurred = bm[i] > 1e-6f ? double(bcm[i]) / double(bm[i]) : 0.0;
+            if (blurred < options.seamCoverageRatio * double(maps.target[i])) candidate[i] = 1;
+        }
+    }, 8);
+    long long crossPixels = 0;
+    for (long long c : crossPerRow) crossPixels += c;
+    // 8-connected groups of gap pixels; only groups of seamMinGroupPx or more count.
+    long long seam = 0;
+    std::vector<uint8_t> seen(n, 0);
+    std::vector<size_t> stack, group;
+    for (size_t start = 0; start < n; ++start) {
+        if (!candidate[start] || seen[start]) continue;
+        group.clear();
+        stack.assign(1, start);
+        seen[start] = 1;
+        while (!stack.empty()) {
+            const size_t i = stack.back();
+            stack.pop_back();
+            group.push_back(i);
+            const int x = int(i % size_t(g.width)), y = int(i / size_t(g.width));
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= g.width || yy >= g.height) continue;
+                    const size_t j = size_t(yy) * size_t(g.width) + size_t(xx);
+                    if (candidate[j] && !seen[j]) {
+                        seen[j] = 1;
+                        stack.push_back(j);
+                    }
+                }
+        }
+        if (int(group.size()) >= options.seamMinGroupPx) seam += (long long)group.size();
+    }
+    res.crossPixels = crossPixels;
+    res.seamPixels = seam;
+    res.seamFraction = crossPixels > 0 ? double(seam) / double(crossPixels) : kNaN;
+}
+
 } // namespace
 
 InspectResult inspectInk(const InkMaps &mapsIn, const InspectOptions &options) {
@@ -281,7 +386,7 @@ InspectResult inspectInk(const InkMaps &mapsIn, const InspectOptions &options) {
         for (float &x : *v)
             if (!std::isfinite(x)) x = 0.0f;
     }
-    res.alignmentMedianDeg = res.alignmentP90Deg = res.toneMae = res.spacingCv = kNaN;
+    res.alignmentMedianDeg = res.alignmentP90Deg = res.toneMae = res.spacingCv = res.seamFraction = kNaN;
     res.measuredSpacingPx = kNaN;
     res.hatchSpacingPx = maps.hatchSpacingPx > 0 ? maps.hatchSpacingPx : options.fallbackSpacingPx;
     if (n == 0) return res;
@@ -389,6 +494,9 @@ InspectResult inspectInk(const InkMaps &mapsIn, const InspectOptions &options) {
             }
         res.inkOutsideSilhouettePx = count;
     }
+
+    res.crossDensity = std::isfinite(maps.crossDensity) ? maps.crossDensity : options.crossDensity;
+    measureSeams(maps, g, options, res);
     return res;
 }
 
@@ -400,11 +508,15 @@ std::string inspectJson(const InspectResult &r) {
     w.field("tone_mae", r.toneMae);
     w.field("spacing_cv", r.spacingCv);
     w.field("ink_outside_silhouette_px", r.inkOutsideSilhouettePx);
+    w.field("seam_fraction", r.seamFraction);
     w.field("alignment_samples", r.alignmentSamples);
     w.field("tone_pixels", r.tonePixels);
     w.field("spacing_samples", r.spacingSamples);
     w.field("measured_spacing_px", r.measuredSpacingPx);
     w.field("hatch_spacing_px", r.hatchSpacingPx);
+    w.field("seam_pixels", r.seamPixels);
+    w.field("cross_pixels", r.crossPixels);
+    w.field("cross_density", r.crossDensity);
     w.endObject();
     return w.str();
 }

@@ -8,8 +8,10 @@
 ///    (the Salisbury 1997 / Turk–Banks 1996 measure);
 ///  - spacing: coefficient of variation of the distance between neighbouring
 ///    hatch lines, measured across the lines in regions of even tone;
-///  - ink outside the silhouette.
+///  - ink outside the silhouette;
+///  - seams: light cracks in cross-hatched regions (seam_fraction).
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,9 @@ struct InkMaps {
     /// Nominal hatch spacing in pixels from the header attribute
     /// "rosy:hatch_spacing_px"; 0 if the file has none (then it is estimated).
     double hatchSpacingPx = 0.0;
+    /// The style's cross density from the header attribute "rosy:cross_density";
+    /// NaN if the file has none (then seam_fraction uses InspectOptions::crossDensity).
+    double crossDensity = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Reads the channels of InkMaps from a rosyhatch EXR.
@@ -50,6 +55,15 @@ struct InspectOptions {
     /// Spacing used when the file has no spacing attribute and none can be
     /// measured, in pixels.
     double fallbackSpacingPx = 8.0;
+    /// Cross density used when the file does not store one (the default style's).
+    double crossDensity = 0.45;
+    /// seam_fraction: Gaussian σ (px) of the coverage blur, distance (px) a pixel
+    /// keeps from the silhouette, share of the target below which blurred coverage
+    /// counts as a gap, and the smallest 8-connected group of gap pixels counted.
+    double seamBlurSigmaPx = 2.0;
+    double seamEdgeDistancePx = 4.0;
+    double seamCoverageRatio = 1.0 / 3.0;
+    int seamMinGroupPx = 30;
 };
 
 /// The measures; NaN where nothing could be measured (e.g. no hatch ink).
@@ -77,6 +91,16 @@ struct InspectResult {
     long long inkOutsideSilhouettePx = 0;
     /// Spacing the smoothing and blurring used (attribute, else measured, else fallback).
     double hatchSpacingPx = 0.0;
+    /// Cracks in dark regions. Among the "cross pixels" (on the object, at least
+    /// seamEdgeDistancePx from the silhouette, target >= cross density), the share
+    /// whose combined ink coverage, blurred with a Gaussian of σ = seamBlurSigmaPx
+    /// over the object only, is below seamCoverageRatio × target, counting only
+    /// 8-connected groups of at least seamMinGroupPx such pixels. Even
+    /// cross-hatching scores 0; NaN when there is no cross pixel.
+    double seamFraction = 0.0;
+    long long seamPixels = 0;  ///< gap pixels counted (in groups large enough)
+    long long crossPixels = 0; ///< the denominator
+    double crossDensity = 0.0; ///< the cross density used (file, else option)
 };
 
 /// Computes every measure. Deterministic (no sampling); cost O(pixels).
@@ -85,7 +109,7 @@ struct InspectResult {
 InspectResult inspectInk(const InkMaps &maps, const InspectOptions &options = {});
 
 /// The result as a JSON object with keys alignment_median_deg, alignment_p90_deg,
-/// tone_mae, spacing_cv, ink_outside_silhouette_px, then the sample counts and
+/// tone_mae, spacing_cv, ink_outside_silhouette_px, seam_fraction, then the sample counts and
 /// spacings; unmeasurable values are null.
 std::string inspectJson(const InspectResult &result);
 

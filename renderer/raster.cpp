@@ -403,11 +403,13 @@ Image inkExrImage(const InkLayers &layers, const Image &composite, const Surface
     return image;
 }
 
-ImageWriteOptions inkExrWriteOptions(double hatchSpacingPx) {
+ImageWriteOptions inkExrWriteOptions(double hatchSpacingPx, double crossDensity) {
     ImageWriteOptions options;
     options.exrHalf = false;
     if (std::isfinite(hatchSpacingPx) && hatchSpacingPx > 0.0)
         options.floatAttributes.emplace_back(kHatchSpacingAttribute, float(hatchSpacingPx));
+    if (std::isfinite(crossDensity))
+        options.floatAttributes.emplace_back(kCrossDensityAttribute, float(crossDensity));
     return options;
 }
 

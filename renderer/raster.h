@@ -20,6 +20,7 @@
 #include "renderer/strokes.h"
 #include "styles/style.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,10 @@ struct SurfaceChannels {
 /// Name of the EXR header attribute (float) holding the nominal hatch spacing in
 /// pixels; `rosyhatch inspect` blurs and smooths at this scale.
 inline constexpr const char *kHatchSpacingAttribute = "rosy:hatch_spacing_px";
+/// Name of the EXR header attribute (float) holding the style's cross density
+/// (hatch.cross_density): `rosyhatch inspect` measures seams where the target asks
+/// for cross-hatching.
+inline constexpr const char *kCrossDensityAttribute = "rosy:cross_density";
 
 /// The channel names of inkExrImage(), in order: R G B A tone.target
 /// ink.coverage ink.hatch0 ink.hatch1 ink.contour depth N.x N.y N.z
@@ -114,8 +119,9 @@ const std::vector<std::string> &inkExrChannelNames();
 Image inkExrImage(const InkLayers &layers, const Image &composite, const SurfaceChannels &surface,
                   const CompositeOptions &options = {});
 
-/// Write options for the EXR of inkExrImage(): 32-bit floats and the nominal
-/// hatch spacing (pixels) in the header as kHatchSpacingAttribute.
-ImageWriteOptions inkExrWriteOptions(double hatchSpacingPx);
+/// Write options for the EXR of inkExrImage(): 32-bit floats, the nominal
+/// hatch spacing (pixels) in the header as kHatchSpacingAttribute and, when
+/// finite, the style's cross density as kCrossDensityAttribute.
+ImageWriteOptions inkExrWriteOptions(double hatchSpacingPx, double crossDensity = std::nan(""));
 
 } // namespace rosy::renderer
