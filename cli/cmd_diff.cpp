@@ -42,6 +42,8 @@ void runDiff(const DiffCliOptions &opt) {
             throw InputError(FileLoc{opt.diffPath}, "-o: unsupported image extension",
                              std::string("use one of ") + renderer::supportedImageExtensions());
         checkWritable(opt.diffPath);
+        checkNotAnInput(opt.diffPath, opt.pathA, "reference image");
+        checkNotAnInput(opt.diffPath, opt.pathB, "image");
     }
     renderer::DiffOptions options = opt.diff;
     options.exrChannels = !opt.coverageOnly;

@@ -15,6 +15,7 @@
 #include "field/mesh_stats.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
+#include "field/smoothing.h"
 #include "renderer/image_io.h"
 #include "renderer/field_picture.h"
 #include "renderer/image.h"
@@ -218,8 +219,14 @@ void runField(const FieldOptions &opt) {
     else if (opt.source == "design") spec.source = field::FieldSource::Design;
     else throw InputError(FileLoc{"--source"}, "unknown field source '" + opt.source + "'",
                           "use curvature, smoothest or design");
-    if (!(opt.smoothingLength >= 0) || opt.smoothingLength > 10)
-        throw InputError(FileLoc{"--smoothing-length"}, "must be in [0, 10]");
+    if (!(opt.smoothingLength == 0 || (opt.smoothingLength >= field::kMinSmoothingLength &&
+                                       opt.smoothingLength <= field::kMaxSmoothingLength))) {
+        std::ostringstream os;
+        os << "--smoothing-length must be 0 (raw curvature directions) or in [" << field::kMinSmoothingLength
+           << ", " << field::kMaxSmoothingLength << "], got " << opt.smoothingLength;
+        throw InputError(FileLoc{"--smoothing-length"}, os.str(),
+                         "a fraction of the bounding-box diagonal such as 0.08");
+    }
     if (!fromScene || opt.given("--smoothing-length")) spec.smoothingLength = opt.smoothingLength;
     if (opt.weights == "meanvalue") spec.weights = field::LaplaceWeights::MeanValue;
     else if (opt.weights == "cotan") spec.weights = field::LaplaceWeights::Cotan;
@@ -261,6 +268,8 @@ void runField(const FieldOptions &opt) {
     if (!opt.imageBeforePath.empty() && edits.empty())
         throw InputError(FileLoc{"--image-before"}, "there are no edits to show the field before",
                          "give --cancel, --move or --cancel-near (or a scene with field edits), or use --image only");
+    // Every output is published at the end, together, or none is (core/atomic_file.h).
+    OutputBatch outputs;
     // OpenImageIO maps while the field is built (renderer/image_io.h).
     if (!opt.imagePath.empty() || !opt.imageBeforePath.empty()) renderer::preloadImageIo();
 
@@ -363,7 +372,16 @@ void runField(const FieldOptions &opt) {
         writeTextAtomically(opt.jsonPath, json.str());
     }
     if (!opt.plyPath.empty()) field::writeFieldPly(opt.plyPath, frames, result.field);
+    if (!opt.common.timingsPath.empty()) {
+        // --timings was accepted and checked but never written before.
+        JsonWriter json;
+        json.beginObject();
+        for (const auto &[stage, t] : ms) json.field(stage, t);
+        json.endObject();
+        writeTextAtomically(opt.common.timingsPath, json.str());
+    }
     if (!holds) throw std::logic_error("Poincare-Hopf check failed");
+    outputs.commit();
 }
 
 } // namespace

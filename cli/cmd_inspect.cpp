@@ -37,7 +37,10 @@ void runInspect(const InspectCliOptions &opt) {
     std::optional<tbb::global_control> threadLimit;
     if (opt.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
-    if (!opt.jsonPath.empty()) checkWritable(opt.jsonPath);
+    if (!opt.jsonPath.empty()) {
+        checkWritable(opt.jsonPath);
+        checkNotAnInput(opt.jsonPath, opt.input, "rendering");
+    }
 
     renderer::InkMaps maps = renderer::readInkMaps(opt.input);
     renderer::InspectResult r = renderer::inspectInk(maps);

@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 
 #include "core/atomic_file.h"
+#include "core/memory.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "renderer/embree_scene.h"
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 
 #include <tbb/global_control.h>
@@ -90,6 +92,21 @@ void renderFieldPictureScene(const scenes::SceneDesc &desc, const scenes::Scene 
     });
 }
 
+/// Throws IoError (exit 3) when the render's estimated memory exceeds what this
+/// process can still allocate; ROSY_MEMORY_CHECK=off skips the check.
+void checkRenderFits(const std::string &scenePath, const scenes::Scene &scene, bool exr) {
+    if (const char *env = std::getenv("ROSY_MEMORY_CHECK"); env && std::string(env) == "off") return;
+    const uint64_t need = scenes::renderMemoryEstimate(scene, exr);
+    const std::optional<MemoryBudget> budget = availableMemory();
+    if (!budget || need <= budget->bytes) return;
+    std::ostringstream os;
+    os << "the render needs about " << formatBytes(need) << " (" << scene.camera.width() << " x "
+       << scene.camera.height() << " pixels, hatch.min_spacing_px " << scene.style.hatch.minSpacingPx << ", "
+       << scene.mesh.nFaces() << " faces) but " << budget->source << " leaves " << formatBytes(budget->bytes);
+    throw IoError(scenePath, os.str() + "; lower camera.resolution or raise hatch.min_spacing_px "
+                                        "(ROSY_MEMORY_CHECK=off tries anyway)");
+}
+
 void runRender(const RenderOptions &opt) {
     const auto start = std::chrono::steady_clock::now();
     setProgressEnabled(!opt.common.quiet);
@@ -126,13 +143,9 @@ void runRender(const RenderOptions &opt) {
     const std::string svgPath = svgPaths.empty() ? std::string() : svgPaths.front();
     renderer::SvgOptions svgOptions = renderer::svgOptionsFor(desc.style.style.page);
     if (!svgPath.empty()) {
-        if (!opt.paper.empty()) {
-            const auto paper = renderer::parsePaperSize(opt.paper);
-            if (!paper)
-                throw InputError(FileLoc{"--paper"}, "unknown paper size '" + opt.paper + "'",
-                                 "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
-            std::tie(svgOptions.pageWidthMm, svgOptions.pageHeightMm) = *paper;
-        }
+        if (!opt.paper.empty())
+            std::tie(svgOptions.pageWidthMm, svgOptions.pageHeightMm) =
+                renderer::paperSize(opt.paper, FileLoc{"--paper"});
         if (opt.marginMm) svgOptions.marginMm = *opt.marginMm;
         if (!(svgOptions.marginMm >= 0) ||
             2 * svgOptions.marginMm >= std::min(svgOptions.pageWidthMm, svgOptions.pageHeightMm))
@@ -173,8 +186,13 @@ void runRender(const RenderOptions &opt) {
         if (!desc.style.presetPath.empty()) checkNotAnInput(out, desc.style.presetPath, "style preset");
     }
 
+    // Every file is published at the end, together, or none is (core/atomic_file.h).
+    OutputBatch batch;
     scenes::Scene scene =
         timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
+    // Refuse, before the work, a render that cannot fit in the memory left
+    // (scenes::renderMemoryEstimate(); README, "Limits").
+    checkRenderFits(opt.scenePath, scene, std::any_of(rasterPaths.begin(), rasterPaths.end(), isExrPath));
     // Image files go out through OpenImageIO, a module of ~260 shared libraries:
     // map it on a background thread while the field is solved (renderer/image_io.h).
     // Not before the mesh load: the mapping slowed the loader's page faults from 50
@@ -193,6 +211,7 @@ void runRender(const RenderOptions &opt) {
         if (!opt.common.timingsPath.empty())
             timings.write(opt.common.timingsPath,
                           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        batch.commit();
         for (const std::string &o : outputs) std::cout << o << "\n";
         return;
     }
@@ -252,6 +271,7 @@ void runRender(const RenderOptions &opt) {
         writeTextAtomically(opt.reportPath, json.str());
     }
     if (!opt.common.timingsPath.empty()) timings.write(opt.common.timingsPath, totalMs);
+    batch.commit();
     // The written paths, one a line, also with --quiet (scripts read them).
     for (const std::string &o : outputs) std::cout << o << "\n";
 }

@@ -7,9 +7,11 @@
 
 #include "cli/commands.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <csignal>
+#include <new>
 #include <iostream>
 
 int main(int argc, char **argv) {
@@ -17,6 +19,9 @@ int main(int argc, char **argv) {
     // leaving the temporary output behind; ignored, the write fails with EFBIG,
     // which the writers report as an IoError (exit 3) after removing the temporary.
     std::signal(SIGXFSZ, SIG_IGN);
+    // Ctrl-C, kill, a closed terminal or pipe: remove the temporary files of outputs
+    // being written, then end with that signal as usual (core/atomic_file.h).
+    rosy::installCleanupSignalHandlers();
     CLI::App app{"rosyhatch: pen-and-ink rendering along N-RoSy fields"};
     app.name("rosyhatch");
     app.set_version_flag("--version", std::string("rosyhatch ") + ROSY_VERSION);
@@ -49,6 +54,12 @@ int main(int argc, char **argv) {
         return 2;
     } catch (const rosy::IoError &e) {
         std::cerr << e.what() << "\n";
+        return 3;
+    } catch (const std::bad_alloc &) {
+        // The machine, not the input or the program: an environment failure. The
+        // render refuses what cannot fit before it starts (cli/cmd_render.cpp); this
+        // is what is left (other programs took the memory meanwhile).
+        std::cerr << "rosyhatch: error: out of memory; close other programs or lower camera.resolution\n";
         return 3;
     } catch (const std::exception &e) {
         std::cerr << "internal error: " << e.what() << "\n";

@@ -1,5 +1,7 @@
 #include "core/diagnostics.h"
 
+#include "core/error.h"
+
 #include <cstdio>
 #include <mutex>
 
@@ -18,7 +20,8 @@ void warn(const std::string &where, const std::string &kind, const std::string &
         g_capture->m_warnings.push_back({where, kind, message});
         return;
     }
-    if (g_printed) std::fprintf(stderr, "%s: warning: %s\n", where.c_str(), message.c_str());
+    if (g_printed)
+        std::fprintf(stderr, "%s: warning: %s\n", printable(where).c_str(), printable(message).c_str());
 }
 
 std::map<std::string, int> warningCounts() {

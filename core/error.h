@@ -12,6 +12,13 @@
 
 namespace rosy {
 
+/// `text` safe to print on a terminal: control bytes (C0, DEL, the C1 range) and
+/// bytes that are not valid UTF-8 become `\xNN` escapes (newline `\n`, tab `\t`,
+/// carriage return `\r`); valid UTF-8 text is kept. Error and warning lines pass
+/// everything they echo from input files through it, so a file cannot move the
+/// cursor or recolour the terminal. `keepNewlines` leaves `\n` as a line break.
+std::string printable(const std::string &text, bool keepNewlines = false);
+
 /// A place in a user's file. line and col are 1-based; 0 means "unknown".
 struct FileLoc {
     std::string path;
@@ -23,7 +30,8 @@ struct FileLoc {
 };
 
 /// Input the user can fix: a bad scene, mesh, flag or parameter.
-/// what() is the full diagnostic line: `path:line:col: error: message; hint`.
+/// what() is the full diagnostic line: `path:line:col: error: message; hint`, one
+/// line, with whatever it echoes passed through printable().
 class InputError : public std::runtime_error {
 public:
     InputError(FileLoc loc, const std::string &message, const std::string &hint = {});
@@ -35,7 +43,8 @@ private:
     std::string m_message;
 };
 
-/// The environment failed us: a file could not be read or written.
+/// The environment failed us: a file could not be read or written. what() is
+/// `path: error: message` through printable() (the message may span lines).
 class IoError : public std::runtime_error {
 public:
     IoError(const std::string &path, const std::string &message);

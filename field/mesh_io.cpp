@@ -2,6 +2,7 @@
 
 #include "core/diagnostics.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 #include <Eigen/Geometry>
 #include <OpenMesh/Core/IO/IOManager.hh>
@@ -787,21 +788,10 @@ bool readPly(const std::string &path, std::string_view text, const LoadOptions &
     return true;
 }
 
+/// Meshes are read only from regular files: the readers check header counts against
+/// the file's size, which a pipe or a device (a link to /dev/zero) does not have.
 std::string readWholeFile(const std::string &path) {
-    std::error_code ec;
-    fs::file_status st = fs::status(path, ec);
-    if (ec || !fs::exists(st)) throw IoError(path, "no such file");
-    if (fs::is_directory(st)) throw IoError(path, "is a folder, expected a mesh file");
-    std::FILE *file = std::fopen(path.c_str(), "rb");
-    if (!file) throw IoError(path, std::string("cannot open the file for reading: ") + std::strerror(errno));
-    std::string text;
-    char buffer[1 << 16];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) text.append(buffer, n);
-    const bool failed = std::ferror(file) != 0;
-    std::fclose(file);
-    if (failed) throw IoError(path, "reading failed");
-    return text;
+    return readInputFile(path, InputFileRules{"mesh file", std::numeric_limits<size_t>::max(), false});
 }
 
 // ---------------------------------------------------------------------------

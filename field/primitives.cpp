@@ -301,20 +301,49 @@ Mesh makeCylinder(double radius, double height, int nAround, int nAlong) {
     return Mesh::fromTriangles(std::move(positions), std::move(faces), "cylinder");
 }
 
-Mesh makeGenus2(int resolution) {
-    requireAtLeast("makeGenus2", "resolution", resolution, 16);
-    // A plate with two rectangular holes, voxelized. Holes keep a margin of at
-    // least two cells, so no two voxels touch only along an edge or corner and
-    // the voxel boundary is a closed 2-manifold of genus 2 (χ = −2).
-    const int W = resolution, H = std::max(8, resolution / 2), T = std::max(2, resolution / 8);
-    const int m = std::max(2, resolution / 8);
-    auto hole = [&](int x, int y) {
+namespace {
+
+/// The voxels of makeGenus2(): a plate with two rectangular holes. Holes keep a
+/// margin of at least two cells, so no two voxels touch only along an edge or
+/// corner and the voxel boundary is a closed 2-manifold of genus 2 (χ = −2).
+struct Genus2Plate {
+    int W, H, T, m;
+    explicit Genus2Plate(int resolution)
+        : W(resolution), H(std::max(8, resolution / 2)), T(std::max(2, resolution / 8)),
+          m(std::max(2, resolution / 8)) {}
+    bool hole(int x, int y) const {
         if (y < m || y >= H - m) return false;
         return (x >= m && x < W / 2 - m / 2) || (x >= W / 2 + (m + 1) / 2 && x < W - m);
-    };
-    auto solid = [&](int x, int y, int z) {
+    }
+    bool solid(int x, int y, int z) const {
         return x >= 0 && x < W && y >= 0 && y < H && z >= 0 && z < T && !hole(x, y);
-    };
+    }
+    /// Exposed voxel sides, each two triangles.
+    long long boundarySquares() const {
+        long long n = 0;
+        for (int x = 0; x < W; ++x)
+            for (int y = 0; y < H; ++y)
+                for (int z = 0; z < T; ++z) {
+                    if (!solid(x, y, z)) continue;
+                    n += !solid(x - 1, y, z) + !solid(x + 1, y, z) + !solid(x, y - 1, z) + !solid(x, y + 1, z) +
+                         !solid(x, y, z - 1) + !solid(x, y, z + 1);
+                }
+        return n;
+    }
+};
+
+} // namespace
+
+long long genus2FaceCount(int resolution) {
+    requireAtLeast("genus2FaceCount", "resolution", resolution, 16);
+    return 2 * Genus2Plate(resolution).boundarySquares();
+}
+
+Mesh makeGenus2(int resolution) {
+    requireAtLeast("makeGenus2", "resolution", resolution, 16);
+    const Genus2Plate plate(resolution);
+    const int W = plate.W, H = plate.H, T = plate.T;
+    auto solid = [&](int x, int y, int z) { return plate.solid(x, y, z); };
     std::map<std::array<int, 3>, int> index;
     std::vector<Vec3> positions;
     auto vertex = [&](std::array<int, 3> q) {

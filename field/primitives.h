@@ -17,6 +17,8 @@ Mesh makeTorus(double majorRadius, double minorRadius, int nU, int nV);
 /// holes, `resolution` voxels along its long side (>= 16, else InputError),
 /// triangulated and rounded by Taubin λ/μ smoothing; x spans about [−1, 1].
 Mesh makeGenus2(int resolution = 48);
+/// Faces makeGenus2(resolution) has, counted without building it (for face limits).
+long long genus2FaceCount(int resolution);
 /// Axis-aligned cube [−1, 1]³ with each face an n × n grid of quads split in two.
 Mesh makeCube(int n = 1);
 

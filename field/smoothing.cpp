@@ -7,8 +7,10 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace rosy::field {
 namespace {
@@ -57,13 +59,33 @@ void relaxationSmooth(const TangentFrames &frames, RosyField &field, int iterati
     ROSY_CHECK(strength > 0 && strength <= 1);
     const SparseMatrixC T = transportedWeights(frames, field.nSym, weights);
     Eigen::VectorXcd u = field.u;
+    const bool anyFixed = std::any_of(fixed.begin(), fixed.end(), [](char c) { return c != 0; });
+    const double startMax = u.size() ? u.cwiseAbs().maxCoeff() : 0.0;
     for (int it = 0; it < iterations; ++it) {
         Eigen::VectorXcd next = (1.0 - strength) * u + strength * (T * u);
         if (!fixed.empty())
             for (int v = 0; v < u.size(); ++v)
                 if (fixed[v]) next[v] = u[v];
         u.swap(next);
+        // Without fixed values nothing holds the level up: the transported average
+        // loses magnitude wherever the members disagree (the holonomy of a curved
+        // surface), so |u| decays geometrically and 10^5 steps reach exactly zero.
+        // Renormalise by a power of two (exact: directions are unchanged to the bit)
+        // whenever the largest magnitude has halved.
+        if (!anyFixed && startMax > 0) {
+            const double now = u.cwiseAbs().maxCoeff();
+            if (now > 0 && now < 0.5 * startMax) {
+                int e = 0;
+                std::frexp(startMax / now, &e);
+                u *= std::ldexp(1.0, e - 1);
+            }
+        }
     }
+    if (startMax > 0 && !(u.cwiseAbs().maxCoeff() > 0))
+        throw InputError(FileLoc{frames.mesh().name()},
+                         "global smoothing reduced the field to zero everywhere (" + std::to_string(iterations) +
+                             " iterations)",
+                         "use fewer iterations or another field source");
     field.u = u;
 }
 
@@ -303,7 +325,15 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
                        std::optional<double> tolerance) {
     const Mesh &mesh = frames.mesh();
     const int n = mesh.nVertices();
-    ROSY_CHECK(smoothingLength > 0);
+    // s = 1 / (ℓ d)² overflows to infinity for tiny ℓ (1e-200), which the solver
+    // would then report as degenerate geometry: name the setting instead.
+    if (!(smoothingLength >= kMinSmoothingLength && smoothingLength <= kMaxSmoothingLength))
+        throw InputError(FileLoc{mesh.name()},
+                         "the smoothing length " + (std::ostringstream() << smoothingLength).str() +
+                             " is outside [" + (std::ostringstream() << kMinSmoothingLength).str() + ", " +
+                             (std::ostringstream() << kMaxSmoothingLength).str() + "]",
+                         "use 0 for the raw curvature directions or a fraction of the bounding-box diagonal "
+                         "such as 0.08");
     RosyField out;
     out.nSym = guide.nSym;
     out.u = Eigen::VectorXcd::Zero(n);

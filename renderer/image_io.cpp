@@ -8,6 +8,7 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -106,7 +107,49 @@ ModuleLoader &loader() {
     return instance;
 }
 
+/// The module's services with the read budget of image_io.h in front of open():
+/// a header is judged before any pixel is allocated.
+class BudgetedImageIo final : public ImageIo {
+public:
+    explicit BudgetedImageIo(const ImageIo &module) : m_module(module) {}
+    bool write(const std::string &path, const ImageFileSpec &spec, PixelType dataType, const void *pixels,
+               std::string &error) const override {
+        return m_module.write(path, spec, dataType, pixels, error);
+    }
+    std::unique_ptr<ImageFileReader> open(const std::string &path, std::string &error) const override {
+        std::unique_ptr<ImageFileReader> in = m_module.open(path, error);
+        if (in) checkReadBudget(path, in->header());
+        return in;
+    }
+
+private:
+    const ImageIo &m_module;
+};
+
 } // namespace
+
+void checkReadBudget(const std::string &path, const ImageFileHeader &h) {
+    const double pixels = double(std::max(h.width, 0)) * double(std::max(h.height, 0)) * double(std::max(h.depth, 1));
+    const double values = pixels * double(std::max(h.nChannels, 0));
+    auto size = [&] {
+        return std::to_string(h.width) + " x " + std::to_string(h.height) +
+               (h.depth > 1 ? " x " + std::to_string(h.depth) : std::string()) + " pixels of " +
+               std::to_string(h.nChannels) + " channel(s)";
+    };
+    const std::string hint = "rosyhatch reads images of at most 4096 x 4096 pixels and " +
+                             std::to_string(kMaxReadValues) + " channel values (the largest render it writes)";
+    if (pixels > double(kMaxReadPixels))
+        throw InputError(FileLoc{path},
+                         "the image is " + size() + ": more than the limit of " + std::to_string(kMaxReadPixels) +
+                             " pixels",
+                         hint);
+    if (values > double(kMaxReadValues))
+        throw InputError(FileLoc{path},
+                         "the image is " + size() + ": " + std::to_string((long long)values) +
+                             " values, more than the limit of " + std::to_string(kMaxReadValues) + " (" +
+                             std::to_string(kMaxReadValues * 4 / (1 << 20)) + " MiB as float)",
+                         hint);
+}
 
 void preloadImageIo() {
     startWorkerThreads(); // before dlopen() holds the loader lock (core/parallel.h)
@@ -116,7 +159,8 @@ void preloadImageIo() {
 const ImageIo &imageIo() {
     const LoadResult &r = loader().wait();
     if (!r.io) throw IoError(kModuleFileName, r.error);
-    return *r.io;
+    static const BudgetedImageIo budgeted(*r.io);
+    return budgeted;
 }
 
 } // namespace rosy::renderer

@@ -88,19 +88,39 @@ class ImageIo {
 public:
     virtual ~ImageIo() = default;
     /// Writes `pixels` (interleaved, `dataType` values, spec.width * height *
-    /// nChannels of them) to `path` in spec.format. False with a message on failure;
-    /// a partial file may then remain at `path` (callers write to a temporary).
+    /// nChannels of them) to `path` in spec.format. `path` is opened (created or
+    /// truncated) by the module and written through its descriptor, so a write that
+    /// fails (disk full, `ulimit -f`) is reported here for every format, JPEG
+    /// included, instead of libjpeg ending the process. False with a message on
+    /// failure; a partial file may then remain at `path` (callers write to a
+    /// temporary, core/atomic_file.h).
     virtual bool write(const std::string &path, const ImageFileSpec &spec, PixelType dataType, const void *pixels,
                        std::string &error) const = 0;
     /// Opens a file for reading; null with a message if it is no image the module can read.
+    /// Through imageIo() the header is also checked against the read budget
+    /// (checkReadBudget()) before it is returned, so no pixel buffer is allocated
+    /// for a decompression bomb.
     virtual std::unique_ptr<ImageFileReader> open(const std::string &path, std::string &error) const = 0;
 };
+
+/// The read budget of `rosyhatch diff` and `inspect` (and every other reader going
+/// through imageIo()): at most kMaxReadPixels pixels (4096 x 4096, the largest
+/// render; scenes/README.md) and kMaxReadValues channel values, i.e. 1 GiB per
+/// image as float, which is what a 4096² EXR of rosyhatch holds (16 channels).
+/// A 168 KB PNG can claim 32000 x 32000 pixels and a 5 KB EXR a 50000² data window.
+inline constexpr long long kMaxReadPixels = 4096LL * 4096LL;
+inline constexpr long long kMaxReadValues = 1LL << 28;
+
+/// \throws InputError (exit 2) naming `path`, the image's size and the limit when
+///   the header exceeds the read budget.
+void checkReadBudget(const std::string &path, const ImageFileHeader &header);
 
 /// Starts loading the module on a background thread (once; later calls do
 /// nothing). Optional: imageIo() loads it anyway.
 void preloadImageIo();
 
-/// The loaded module, waiting for a preload in flight.
+/// The loaded module, waiting for a preload in flight; its open() applies the read
+/// budget (it may throw InputError, from this side of the module boundary).
 /// \throws IoError if the module cannot be found or loaded (exit code 3).
 const ImageIo &imageIo();
 

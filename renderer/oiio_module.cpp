@@ -5,10 +5,79 @@
 
 #include "renderer/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace rosy::renderer {
 namespace {
+
+/// The writers' output: a file descriptor behind OpenImageIO's IOProxy interface.
+/// A failed write (disk full, EFBIG past `ulimit -f`) is recorded and every later
+/// write skipped, but the writer is told it succeeded: libjpeg's default error
+/// handler calls exit() when its output fails, which would end the whole program
+/// with a temporary file left behind. The failure is reported after close().
+class FdOutput final : public OIIO::Filesystem::IOProxy {
+public:
+    FdOutput(int fd, const std::string &name) : IOProxy(name, Write), m_fd(fd) {}
+    const char *proxytype() const override { return "rosyhatch-fd"; }
+    bool seek(int64_t offset) override {
+        m_pos = offset;
+        return true;
+    }
+    size_t write(const void *buf, size_t size) override {
+        pwrite(buf, size, m_pos);
+        m_pos += int64_t(size);
+        return size;
+    }
+    size_t pwrite(const void *buf, size_t size, int64_t offset) override {
+        const char *p = static_cast<const char *>(buf);
+        size_t left = size;
+        int64_t at = offset;
+        while (m_errno == 0 && left > 0) {
+            const ssize_t n = ::pwrite(m_fd, p, left, off_t(at));
+            if (n < 0) {
+                if (errno != EINTR) m_errno = errno;
+                continue;
+            }
+            p += n;
+            left -= size_t(n);
+            at += n;
+        }
+        m_size = std::max(m_size, offset + int64_t(size));
+        return size;
+    }
+    size_t read(void *buf, size_t size) override {
+        const size_t n = pread(buf, size, m_pos);
+        m_pos += int64_t(n);
+        return n;
+    }
+    size_t pread(void *buf, size_t size, int64_t offset) override {
+        const ssize_t n = ::pread(m_fd, buf, size, off_t(offset));
+        return n < 0 ? 0 : size_t(n);
+    }
+    size_t size() const override { return size_t(m_size); }
+    /// errno of the first failed write, 0 if none.
+    int failure() const { return m_errno; }
+
+private:
+    int m_fd;
+    int m_errno = 0;
+    int64_t m_size = 0;
+};
+
+/// Closes the descriptor on every path out.
+struct FdCloser {
+    int fd;
+    ~FdCloser() {
+        if (fd >= 0) ::close(fd);
+    }
+};
 
 OIIO::TypeDesc oiioType(PixelType t) {
     switch (t) {
@@ -71,20 +140,49 @@ public:
             error = "OpenImageIO has no writer: " + OIIO::geterror();
             return false;
         }
-        if (!out->open(path, spec)) {
+        // TIFF goes to the path itself: OpenImageIO 2.4.7's TIFF writer produces a file
+        // without a valid directory through any IOProxy (its own IOFile included), and
+        // libtiff reports write failures as errors rather than ending the process.
+        if (s.format == "tiff" || !out->supports("ioproxy")) {
+            if (!out->open(path, spec)) {
+                error = out->geterror();
+                return false;
+            }
+            bool ok = out->write_image(oiioType(dataType), pixels);
+            if (!ok) error = out->geterror();
+            if (!out->close() && ok) {
+                ok = false;
+                error = out->geterror();
+            }
+            return ok;
+        }
+        // Read-write: libtiff reads back what it wrote when it finishes a directory.
+        FdCloser file{::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)};
+        if (file.fd < 0) {
+            error = std::string("cannot open for writing: ") + std::strerror(errno);
+            return false;
+        }
+        FdOutput proxy(file.fd, path);
+        if (!out->set_ioproxy(&proxy) || !out->open(path, spec)) {
             error = out->geterror();
             return false;
         }
-        if (!out->write_image(oiioType(dataType), pixels)) {
+        bool ok = out->write_image(oiioType(dataType), pixels);
+        if (!ok) error = out->geterror();
+        if (!out->close() && ok) {
+            ok = false;
             error = out->geterror();
-            out->close();
+        }
+        if (proxy.failure() != 0) {
+            error = std::string("write failed: ") + std::strerror(proxy.failure());
             return false;
         }
-        if (!out->close()) {
-            error = out->geterror();
-            return false;
+        if (::close(file.fd) != 0 && ok) {
+            ok = false;
+            error = std::string("write failed: ") + std::strerror(errno);
         }
-        return true;
+        file.fd = -1;
+        return ok;
     }
 
     std::unique_ptr<ImageFileReader> open(const std::string &path, std::string &error) const override {

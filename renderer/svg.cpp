@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <tuple>
 
 namespace rosy::renderer {
@@ -23,8 +24,12 @@ constexpr size_t kMaxPathVertices = 32000;
 /// Fixed 3 decimals (µm on the page) with trailing zeros trimmed: byte-identical
 /// across runs and platforms, and "210" rather than "210.000" for page sizes.
 void appendNumber(std::string &out, double x) {
+    // Every number written is a page coordinate or width in mm, at most
+    // kMaxPaperSideMm plus a margin; anything else is a bug, not a truncated number.
+    if (std::isfinite(x) && !(std::abs(x) < 1e12)) ROSY_CHECK(!"SVG number out of range");
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3f", x);
+    const int n = std::snprintf(buf, sizeof buf, "%.3f", x);
+    ROSY_CHECK(n > 0 && n < int(sizeof buf));
     std::string s(buf);
     if (s.find('.') != std::string::npos) {
         while (s.back() == '0') s.pop_back();
@@ -64,11 +69,39 @@ std::optional<std::pair<double, double>> parsePaperSize(const std::string &name)
         const std::string ws = lower.substr(0, x), hs = lower.substr(x + 1);
         const double w = std::stod(ws, &usedW), h = std::stod(hs, &usedH);
         if (usedW != ws.size() || usedH != hs.size()) return std::nullopt;
-        if (!(w > 0) || !(h > 0) || !std::isfinite(w) || !std::isfinite(h)) return std::nullopt;
+        if (!(w >= kMinPaperSideMm && w <= kMaxPaperSideMm) || !(h >= kMinPaperSideMm && h <= kMaxPaperSideMm))
+            return std::nullopt;
         return std::pair{w, h};
     } catch (const std::exception &) {
         return std::nullopt;
     }
+}
+
+std::pair<double, double> paperSize(const std::string &name, const FileLoc &where) {
+    if (const auto size = parsePaperSize(name)) return *size;
+    // Tell a malformed name from a well-formed size out of range.
+    std::string lower = name;
+    for (char &c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const size_t x = lower.find('x');
+    if (x != std::string::npos && x > 0 && x + 1 < lower.size()) {
+        size_t usedW = 0, usedH = 0;
+        double w = 0, h = 0;
+        try {
+            w = std::stod(lower.substr(0, x), &usedW);
+            h = std::stod(lower.substr(x + 1), &usedH);
+        } catch (const std::exception &) {
+            usedW = 0; // out of double's range, or not numbers: handled below
+        }
+        const bool numbers = usedW == x && usedH == lower.size() - x - 1;
+        if (numbers || lower.find_first_not_of("0123456789.e+-x") == std::string::npos)
+            throw InputError(where,
+                             "paper size '" + name + "' is out of range: each side must be in [" +
+                                 number(kMinPaperSideMm) + ", " + number(kMaxPaperSideMm) + "] mm" +
+                                 (numbers ? " (got " + (std::ostringstream() << w << " x " << h).str() + ")" : ""),
+                             "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
+    }
+    throw InputError(where, "unknown paper size '" + name + "'",
+                     "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
 }
 
 SvgOptions svgOptionsFor(const styles::PageStyle &page) {
@@ -103,6 +136,12 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, Svg
                                         std::to_string(list.height) + " px)",
                          "render at a positive resolution");
     SvgOptions options = optionsIn;
+    for (const double side : {options.pageWidthMm, options.pageHeightMm})
+        if (!(side >= kMinPaperSideMm && side <= kMaxPaperSideMm))
+            throw InputError(FileLoc{}, "SVG: a page side of " + (std::ostringstream() << side).str() +
+                                            " mm is outside [" + number(kMinPaperSideMm) + ", " +
+                                            number(kMaxPaperSideMm) + "] mm",
+                             "use a paper size within that range");
     std::tie(options.pageWidthMm, options.pageHeightMm) = orientedPage(
         options.pageWidthMm, options.pageHeightMm, options.orientation, options.marginMm, list.width, list.height);
     const double availW = options.pageWidthMm - 2 * options.marginMm;

@@ -12,6 +12,7 @@
 
 #include "renderer/plotter.h"
 #include "renderer/strokes.h"
+#include "core/error.h"
 #include "styles/style.h"
 
 #include <optional>
@@ -44,10 +45,20 @@ struct SvgReport {
     double overlapRemovedMm = 0; ///< collinear-overlapping ink the plotter pass dropped
 };
 
+/// Each side of a page must be in [kMinPaperSideMm, kMaxPaperSideMm] (1 mm to 100 m,
+/// a long plotter roll): beyond that the numbers written to the SVG lose their
+/// meaning (a 1e308 mm page once overflowed the number formatting).
+inline constexpr double kMinPaperSideMm = 1.0;
+inline constexpr double kMaxPaperSideMm = 100000.0;
+
 /// Page size (width, height) in mm for "a4", "a3", "letter" (case-insensitive,
-/// portrait), or "WxH" in mm such as "300x200". std::nullopt for anything else
-/// or non-positive sizes.
+/// portrait), or "WxH" in mm such as "300x200". std::nullopt for anything else,
+/// including sides outside [kMinPaperSideMm, kMaxPaperSideMm].
 std::optional<std::pair<double, double>> parsePaperSize(const std::string &name);
+
+/// parsePaperSize() for user input: \throws InputError at `where` ("--paper", a scene
+/// value) saying whether the name is unknown or a side is out of range.
+std::pair<double, double> paperSize(const std::string &name, const FileLoc &where);
 
 /// SVG options for a style's page; plotter settings at their defaults.
 SvgOptions svgOptionsFor(const styles::PageStyle &page);

@@ -1,7 +1,9 @@
 #include "scenes/scene.h"
 
+#include "core/input_file.h"
 #include "field/mesh_io.h"
 #include "field/primitives.h"
+#include "field/smoothing.h"
 #include "renderer/image.h"
 #include "renderer/svg.h"
 
@@ -174,16 +176,32 @@ public:
 
     int integer(const YAML::Node &node, const std::string &what, int lo, int hi) const {
         if (!node.IsScalar()) fail(node, what + " must be a whole number, got " + kindOf(node));
-        long long v;
-        try {
-            v = node.as<long long>();
-        } catch (const YAML::Exception &) {
-            fail(node, what + " must be a whole number, got " + kindOf(node));
-        }
+        long long v = wholeNumber(node, what, lo, hi);
         if (v < lo || v > hi)
             fail(node, what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                            "], got " + std::to_string(v));
         return int(v);
+    }
+
+    /// A scalar that is a whole number, also when written as 128.0 or 1e3; a
+    /// fractional or non-numeric value fails naming it. Values beyond [lo, hi] are
+    /// returned clamped just outside it (the caller reports the range).
+    long long wholeNumber(const YAML::Node &node, const std::string &what, long long lo, long long hi) const {
+        try {
+            return node.as<long long>();
+        } catch (const YAML::Exception &) {
+        }
+        double d = 0;
+        try {
+            d = node.as<double>();
+        } catch (const YAML::Exception &) {
+            fail(node, what + " must be a whole number, got " + kindOf(node));
+        }
+        if (!std::isfinite(d)) fail(node, what + " must be a finite whole number, got " + kindOf(node));
+        if (d != std::floor(d)) fail(node, what + " must be a whole number, got " + fmt(d));
+        if (d < double(lo) || d > double(hi))
+            fail(node, what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + fmt(d));
+        return (long long)d;
     }
 
     bool boolean(const YAML::Node &node, const std::string &what) const {
@@ -216,6 +234,8 @@ public:
     }
 
     const std::string &path() const { return m_path; }
+    /// Nodes located at --set overrides so far.
+    size_t originCount() const { return m_origins.size(); }
 
     /// Locates `node` and everything below it at `where` (a --set override).
     void addOrigin(const YAML::Node &node, const FileLoc &where) {
@@ -280,6 +300,11 @@ void parseMeshFile(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
                    "paths are relative to the scene file's folder");
         if (fs::is_directory(file, ec))
             p.fail(node, "mesh '" + file.string() + "' is a folder, not a file");
+        // Links are followed; what they reach must be a file on disk (the readers check
+        // header counts against its size, and a device such as /dev/zero never ends).
+        if (!fs::is_regular_file(file, ec))
+            p.fail(node, "mesh '" + file.string() + "' is not a regular file (a device, pipe or socket)",
+                   "give a mesh file on disk");
         mesh.file = Located<std::string>{file.string(), p.loc(node)};
     }
 }
@@ -390,14 +415,16 @@ void parseCamera(const Parser &p, const YAML::Node &node, CameraDesc &cam) {
             cam.resolution = {{p.integer(value[0], "camera.resolution width", 1, 16384),
                                p.integer(value[1], "camera.resolution height", 1, 16384)},
                               l};
-            // Rejected before anything is allocated: the render keeps about 250
-            // bytes per pixel (G-buffer, screen field, layers), 4 GB at the limit.
+            // Rejected before anything is allocated: the render keeps 112 to 430 bytes
+            // per pixel (G-buffer, screen field, layers, strokes; renderMemoryEstimate()),
+            // 1.9 to 7.2 GB at the limit. What fits in the memory left is checked
+            // after the mesh is loaded (cli/cmd_render.cpp).
             const long long pixels = 1LL * cam.resolution.value[0] * cam.resolution.value[1];
             if (pixels > kMaxPixels)
                 p.fail(value, "camera.resolution " + std::to_string(cam.resolution.value[0]) + " x " +
                                   std::to_string(cam.resolution.value[1]) + " is " + std::to_string(pixels) +
                                   " pixels, more than the limit of " + std::to_string(kMaxPixels) +
-                                  " (4096 x 4096; about 250 bytes each)",
+                                  " (4096 x 4096; a render keeps 112 to 430 bytes per pixel)",
                        "render at most 16.7 million pixels, or use an SVG output for print sizes");
         }
     }
@@ -578,9 +605,11 @@ void applyStyleText(const Parser &p, const YAML::Node &value, const std::string 
                     styles::Style &style) {
     const std::string text = p.text(value, what);
     if (dotted == "page.size") {
-        const auto size = renderer::parsePaperSize(text);
-        if (!size) p.fail(value, what + ": unknown paper size '" + text + "'", "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
-        std::tie(style.page.widthMm, style.page.heightMm) = *size;
+        try {
+            std::tie(style.page.widthMm, style.page.heightMm) = renderer::paperSize(text, p.loc(value));
+        } catch (const InputError &e) {
+            p.fail(value, what + ": " + e.message(), "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
+        }
         return;
     }
     using O = styles::PageStyle::Orientation;
@@ -618,16 +647,9 @@ void applyStyleMap(const Parser &p, const YAML::Node &node, const std::string &p
         case SK::Text: applyStyleText(p, value, dotted, what, style); break;
         case SK::Integer: {
             if (!value.IsScalar()) p.fail(value, what + " must be a whole number, got " + Parser::kindOf(value));
-            unsigned long long v = 0;
-            bool ok = !value.Scalar().empty() && value.Scalar()[0] != '-';
-            try {
-                if (ok) v = value.as<unsigned long long>();
-            } catch (const YAML::Exception &) {
-                ok = false;
-            }
-            if (!ok) p.fail(value, what + " must be a whole number in [0, 4294967295], got " + Parser::kindOf(value));
-            if (v > 4294967295ull)
-                p.fail(value, what + " must be in [0, 4294967295], got " + value.Scalar());
+            const long long v = p.wholeNumber(value, what, 0, 4294967295LL);
+            if (v < 0 || v > 4294967295LL)
+                p.fail(value, what + " must be a whole number in [0, 4294967295], got " + std::to_string(v));
             *it->integer(style) = uint32_t(v);
             break;
         }
@@ -690,16 +712,12 @@ bool looksLikePath(const std::string &value) {
     return value.find('/') != std::string::npos || ext == ".yaml" || ext == ".yml";
 }
 
+/// Scene and preset files are small (a few KB); this bound stops an endless
+/// stream (a link to /dev/zero, `yes | rosyhatch render /dev/stdin`) early.
+constexpr size_t kMaxSceneBytes = 4u << 20;
+
 std::string readText(const std::string &path, const char *what) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw IoError(path, std::string(what) + " does not exist");
-    if (fs::is_directory(path, ec)) throw IoError(path, std::string("is a folder, not a ") + what);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError(path, std::string("cannot open the ") + what + " for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw IoError(path, std::string("error while reading the ") + what);
-    return ss.str();
+    return readInputFile(path, InputFileRules{what, kMaxSceneBytes, true});
 }
 
 /// Limits that keep a hostile file from exhausting the stack or memory (yaml-cpp
@@ -707,25 +725,35 @@ std::string readText(const std::string &path, const char *what) {
 /// `&a [*a]` is a cycle and nested aliases expand exponentially when walked).
 constexpr int kMaxYamlDepth = 32;
 constexpr long kMaxYamlValues = 100000;
+/// A --set value is one setting, not a scene: every node it brings is located at
+/// the override (a linear list, Parser::loc()), so it is kept much smaller.
+constexpr long kMaxOverrideValues = 10000;
 
-void checkYamlShape(const Parser &p, const YAML::Node &node, std::vector<YAML::Node> &stack, long &visited) {
-    if (++visited > kMaxYamlValues)
-        p.fail(node, "the file expands to more than " + std::to_string(kMaxYamlValues) +
-                         " values (aliases of aliases?)",
-               "write the values out instead of nesting aliases");
+/// Walks the tree once, stopping at the limits above. `at` locates every error
+/// when the tree came from somewhere else than the file (a --set value).
+void checkYamlShape(const Parser &p, const YAML::Node &node, std::vector<YAML::Node> &stack, long &visited,
+                    const FileLoc *at = nullptr, long maxValues = kMaxYamlValues) {
+    auto fail = [&](const std::string &what, const std::string &hint) {
+        if (at) throw InputError(*at, what, hint);
+        p.fail(node, what, hint);
+    };
+    const std::string source = at ? "the value" : "the file";
+    if (++visited > maxValues)
+        fail(source + " expands to more than " + std::to_string(maxValues) + " values (aliases of aliases?)",
+             "write the values out instead of nesting aliases");
     if (!node.IsMap() && !node.IsSequence()) return;
     for (const YAML::Node &ancestor : stack)
-        if (ancestor.is(node)) p.fail(node, "an alias refers to a node that contains it (a cycle)", "remove that alias");
+        if (ancestor.is(node)) fail("an alias refers to a node that contains it (a cycle)", "remove that alias");
     if (int(stack.size()) >= kMaxYamlDepth)
-        p.fail(node, "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
-               "scene files need only a few levels of maps and lists");
+        fail("nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
+             "scene files need only a few levels of maps and lists");
     stack.push_back(node);
     for (auto it = node.begin(); it != node.end(); ++it) {
         if (node.IsMap()) {
-            checkYamlShape(p, it->first, stack, visited);
-            checkYamlShape(p, it->second, stack, visited);
+            checkYamlShape(p, it->first, stack, visited, at, maxValues);
+            checkYamlShape(p, it->second, stack, visited, at, maxValues);
         } else {
-            checkYamlShape(p, *it, stack, visited);
+            checkYamlShape(p, *it, stack, visited, at, maxValues);
         }
     }
     stack.pop_back();
@@ -733,8 +761,9 @@ void checkYamlShape(const Parser &p, const YAML::Node &node, std::vector<YAML::N
 
 /// Flow brackets ([ and {) nested deeper than kMaxYamlDepth, found in the text
 /// before yaml-cpp recurses into them, so the error names the exact column.
-/// Brackets inside quoted scalars and comments do not count.
-void checkFlowDepth(const Parser &p, const std::string &text) {
+/// Brackets inside quoted scalars and comments do not count. `at` locates the
+/// error when the text is a --set value.
+void checkFlowDepth(const Parser &p, const std::string &text, const FileLoc *at = nullptr) {
     int depth = 0, line = 1, col = 0;
     char quote = 0;
     bool comment = false;
@@ -760,7 +789,7 @@ void checkFlowDepth(const Parser &p, const std::string &text) {
         else if ((c == '"' || c == '\'') && tokenStart) quote = c;
         else if (c == '[' || c == '{') {
             if (++depth > kMaxYamlDepth)
-                throw InputError(FileLoc{p.path(), line, col},
+                throw InputError(at ? *at : FileLoc{p.path(), line, col},
                                  "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
                                  "scene files need only a few levels of maps and lists");
         } else if (c == ']' || c == '}') {
@@ -871,9 +900,12 @@ void parseStyle(const Parser &p, const YAML::Node &node, StyleDesc &sd) {
             if (file.is_relative()) file = fs::path(p.path()).parent_path() / file;
             file = file.lexically_normal();
             std::error_code ec;
-            if (!fs::is_regular_file(file, ec))
+            if (!fs::exists(file, ec))
                 p.fail(presetNode, "style preset file '" + file.string() + "' does not exist",
                        "give a preset name or a path relative to the scene file");
+            if (fs::is_directory(file, ec))
+                p.fail(presetNode, "style preset '" + file.string() + "' is a folder, not a file",
+                       "give a preset name or the path of a preset .yaml file");
             sd.presetPath = file.string();
         } else {
             std::vector<std::string> names;
@@ -994,7 +1026,13 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
             fd.sourceLoc = p.loc(value);
             sourceNode = value;
         } else if (k == "smoothing_length") {
-            fd.spec.smoothingLength = p.number(value, "field.smoothing_length", 0.0, 10.0);
+            fd.spec.smoothingLength = p.number(value, "field.smoothing_length", 0.0, field::kMaxSmoothingLength);
+            if (fd.spec.smoothingLength != 0 && fd.spec.smoothingLength < field::kMinSmoothingLength)
+                p.fail(value, "field.smoothing_length must be 0 (raw curvature directions) or in [" +
+                                  Parser::fmt(field::kMinSmoothingLength) + ", " +
+                                  Parser::fmt(field::kMaxSmoothingLength) + "], got " +
+                                  Parser::fmt(fd.spec.smoothingLength),
+                       "a fraction of the bounding-box diagonal such as 0.08");
             fd.smoothingLengthLoc = p.loc(value);
         } else if (k == "weights") {
             const std::string s = p.text(value, "field.weights");
@@ -1059,16 +1097,31 @@ void applyOverride(Parser &p, YAML::Node &root, const std::string &text) {
         if (dot == std::string::npos) break;
         start = dot + 1;
     }
+    // The value is YAML text like a scene file, so it meets the same limits (nesting,
+    // alias expansion, cycles) before anything walks it.
+    checkFlowDepth(p, valueText, &where);
     YAML::Node value;
     try {
         value = YAML::Load(valueText);
+    } catch (const YAML::DeepRecursion &) {
+        throw InputError(where, "nesting deeper than " + std::to_string(kMaxYamlDepth) + " levels",
+                         "scene values need only a few levels of maps and lists");
     } catch (const YAML::ParserException &e) {
         throw InputError(where, "the value is not valid YAML: " + e.msg,
                          "quote lists and maps for the shell, e.g. --set 'camera.resolution=[512, 512]'");
     }
     if (!value || value.IsNull())
         throw InputError(where, "the value of '" + keyPath + "' is empty", "write a value after '='");
+    {
+        std::vector<YAML::Node> stack;
+        long visited = 0;
+        checkYamlShape(p, value, stack, visited, &where, kMaxOverrideValues);
+    }
     p.addOrigin(value, where);
+    if (long(p.originCount()) > kMaxOverrideValues)
+        throw InputError(where, "the --set values hold more than " + std::to_string(kMaxOverrideValues) +
+                                    " values together",
+                         "put large settings in the scene file");
     YAML::Node node = root;
     std::string walked;
     for (size_t i = 0; i < segments.size(); ++i) {
@@ -1262,8 +1315,14 @@ SceneDesc parseScene(const std::string &text, const std::string &path,
     Parser p(path);
     YAML::Node root = loadYaml(p, text);
     if (!overrides.empty() && (!root || root.IsNull())) root = YAML::Node(YAML::NodeType::Map);
-    if (root.IsMap())
+    if (root.IsMap() && !overrides.empty()) {
         for (const std::string &o : overrides) applyOverride(p, root, o);
+        // The file and every value together stay within the value budget.
+        std::vector<YAML::Node> stack;
+        long visited = 0;
+        const FileLoc where{"--set " + overrides.back()};
+        checkYamlShape(p, root, stack, visited, &where);
+    }
     SceneDesc desc;
     desc.path = path;
     if (!root || root.IsNull())
@@ -1288,12 +1347,7 @@ SceneDesc parseScene(const std::string &text, const std::string &path,
             desc.threads = {p.integer(value, "threads", 0, 4096), p.loc(value)};
         } else if (k == "seed") {
             if (!value.IsScalar()) p.fail(value, "seed must be a whole number, got " + Parser::kindOf(value));
-            long long v = 0;
-            try {
-                v = value.as<long long>();
-            } catch (const YAML::Exception &) {
-                p.fail(value, "seed must be a whole number, got " + Parser::kindOf(value));
-            }
+            const long long v = p.wholeNumber(value, "seed", 0, 4294967295LL);
             if (v < 0 || v > 4294967295LL)
                 p.fail(value, "seed must be in [0, 4294967295], got " + std::to_string(v),
                        "any whole number in that range; the same seed gives the same drawing");
@@ -1332,15 +1386,7 @@ SceneDesc parseScene(const std::string &text, const std::string &path,
 }
 
 SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw IoError(path, "scene file does not exist");
-    if (fs::is_directory(path, ec)) throw IoError(path, "is a folder, not a scene file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError(path, "cannot open the scene file for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw IoError(path, "error while reading the scene file");
-    return parseScene(ss.str(), path, overrides);
+    return parseScene(readText(path, "scene file"), path, overrides);
 }
 
 namespace {
@@ -1364,6 +1410,25 @@ field::Mesh makePrimitive(const MeshDesc &m) {
         return field::makeCylinder(P("radius"), P("height"), I("n_around"), I("n_along"));
     ROSY_CHECK(!"primitive table and makePrimitive() disagree");
     return {};
+}
+
+/// Triangles of a Platonic solid before subdivision (pentagons as 5-fans).
+long long platonicFaces(const std::string &name) {
+    if (name == "tetrahedron") return 4;
+    if (name == "octahedron") return 8;
+    if (name == "dodecahedron") return 60;
+    return 20; // icosahedron
+}
+
+/// The face limit of meshes (--max-faces) applies to primitives too: checked from
+/// the parameters, before anything is allocated.
+void checkPrimitiveFaces(const MeshDesc &m, const field::LoadOptions &options) {
+    const long long faces = primitiveFaceCount(m);
+    if (faces > options.maxFaces)
+        throw InputError(m.primitive->loc,
+                         "the " + m.primitive->value + " primitive would have " + std::to_string(faces) +
+                             " faces, more than the limit of " + std::to_string(options.maxFaces),
+                         "lower its resolution parameters, or raise the limit with --max-faces");
 }
 
 /// Generalized winding number of the closed or open surface `mesh` around `p`
@@ -1448,8 +1513,35 @@ renderer::IllustrationInput illustrationInput(const Scene &scene, const field::T
     return in;
 }
 
+long long primitiveFaceCount(const MeshDesc &m) {
+    ROSY_CHECK(m.primitive.has_value());
+    const std::string &name = m.primitive->value;
+    auto I = [&](const char *k) { return (long long)std::llround(m.params.at(k).value); };
+    auto pow4 = [](long long s) { return 1LL << (2 * s); };
+    if (name == "icosphere" || name == "ellipsoid") return 20 * pow4(I("subdivisions"));
+    if (name == "torus") return 2 * I("nu") * I("nv");
+    if (name == "genus2") return field::genus2FaceCount(int(I("resolution")));
+    if (name == "cube") return 12 * I("n") * I("n");
+    if (name == "tetrahedron" || name == "octahedron" || name == "dodecahedron" || name == "icosahedron")
+        return platonicFaces(name) * pow4(I("subdivisions"));
+    if (name == "disk") return 6 * I("rings") * I("rings");
+    if (name == "grid") return 2 * I("n") * I("n");
+    if (name == "cylinder") return 2 * I("n_around") * I("n_along");
+    ROSY_CHECK(!"primitive table and primitiveFaceCount() disagree");
+    return 0;
+}
+
+uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput) {
+    const double pixels = double(scene.camera.width()) * double(scene.camera.height());
+    const double spacing = std::max(scene.style.hatch.minSpacingPx, 0.5);
+    const double perPixel = 130.0 + std::max(160.0 / spacing, exrOutput ? 100.0 : 0.0);
+    const double perFace = 600.0;
+    return uint64_t(pixels * perPixel + double(scene.mesh.nFaces()) * perFace);
+}
+
 Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions) {
     Scene scene;
+    if (!desc.mesh.file) checkPrimitiveFaces(desc.mesh, meshOptions);
     scene.mesh = desc.mesh.file ? field::loadMesh(desc.mesh.file->value, meshOptions) : makePrimitive(desc.mesh);
     if (scene.mesh.nFaces() == 0)
         throw InputError(desc.mesh.loc, "the mesh has no faces");

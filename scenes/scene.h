@@ -15,6 +15,7 @@
 #include "styles/style.h"
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -264,8 +265,25 @@ field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transfor
 /// Without a `lights` key, one directional key light comes from the viewer's upper left.
 /// \throws IoError / InputError from mesh loading; InputError at the camera's location
 ///   if the manual camera is degenerate for this mesh, sees none of it, or stands
-///   inside a closed mesh. `meshOptions` carries the face limit (--max-faces).
+///   inside a closed mesh. `meshOptions` carries the face limit (--max-faces), which
+///   applies to mesh files and primitives alike.
 Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions = {});
+
+/// The number of triangles the procedural mesh of `mesh` (mesh.primitive set) has,
+/// computed from its parameters without building it. buildScene() refuses a
+/// primitive with more faces than `meshOptions.maxFaces` (--max-faces, default
+/// 20,000,000) before allocating it, at the `primitive:` value (InputError).
+long long primitiveFaceCount(const MeshDesc &mesh);
+
+/// Peak memory in bytes that rendering `scene` will add to what is allocated once
+/// its mesh is loaded, from measurements of whole renders (README, "Limits";
+/// peak RSS of bunny00 at 1024², 2048² and 4096²): per pixel 130 bytes of buffers
+/// (G-buffer, screen field, ink layers) plus the larger of the hatching's strokes,
+/// 160 / hatch.min_spacing_px bytes (427 bytes per pixel measured at the densest
+/// 0.5 px), and an EXR output's channels, 100 bytes; per face 600 bytes (frames,
+/// field, solver, ray-tracing structure). Conservative: the defaults measure 112
+/// bytes per pixel (PNG) and 206 (EXR) against 180 and 230 estimated.
+uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput);
 
 /// Names the primitives a scene may use, for messages and documentation.
 std::vector<std::string> primitiveNames();
