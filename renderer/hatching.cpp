@@ -208,8 +208,12 @@ public:
         m_rotated = style.angleOffsetDeg != 0.0;
         buildBlocked(gbuffer);
         m_crossWeight.resize(field.nPixels());
-        parallelFor(0, int64_t(field.nPixels()), [&](int64_t i) {
-            m_crossWeight[size_t(i)] = field.valid[size_t(i)] ? float(crossWeight(field, size_t(i))) : 0.0f;
+        for (std::vector<double> &sp : m_spacing) sp.resize(field.nPixels());
+        parallelFor(0, int64_t(field.nPixels()), [&](int64_t ii) {
+            const size_t i = size_t(ii);
+            const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+            m_crossWeight[i] = float(w);
+            for (int f = 0; f < 2; ++f) m_spacing[f][i] = familySpacingPx(densityAt(int(i)), f, style, w);
         }, 4096);
         m_discs = singularityDiscs(field, density, style, 1.0);
         // Pixels a disc may reach, so the exact test runs only near singularities.
@@ -249,14 +253,14 @@ public:
         m_family = 0;
         m_seedClearance = kFillClearance;
         m_minLengthRatio = kFillMinLengthRatio;
-        const double stride = 0.5 * std::max(1.0, m_style.minSpacingPx);
+        const double stride = std::max(1.0, m_style.minSpacingPx);
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
                 const Vec2 q(x, y);
+                const int i = pixelIndex(q);
+                if (i < 0 || singleTone(i)) continue;
                 m_threshold = baseThreshold();
                 if (!eligible(q)) continue;
-                const int i = pixelIndex(q);
-                if (singleTone(i)) continue;
                 const double r = kFillClearance * spacingAt(i);
                 if (m_grid.any(q, r, [&](const Sample &s) { return (s.p - q).squaredNorm() < r * r; })) continue;
                 const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
@@ -305,9 +309,7 @@ private:
         return m_field.index(x, y);
     }
     double densityAt(int i) const { return clampDensity(m_density[size_t(i)]); }
-    double spacingAt(int i) const {
-        return familySpacingPx(densityAt(i), m_family, m_style, m_crossWeight[size_t(i)]);
-    }
+    double spacingAt(int i) const { return m_spacing[m_family][size_t(i)]; }
 
     bool inDisc(const Vec2 &q) const {
         const int i = pixelIndex(q);
@@ -350,14 +352,15 @@ private:
     /// every family-0 sample counts for family 0, so mid-tones never cross.
     bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
         return m_grid.anyWithin(q, r, [&](const Sample &s) {
+            const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
+            if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
             // The larger of the two points' d_test: measureHatches() takes the smaller at
             // either end, so the tracer is never the more lenient where tone changes.
             const double rr = std::max(r, s.dTest);
             if ((s.p - q).squaredNorm() >= rr * rr) return false;
             const double selfSkip = 2.0 * rr;
             if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
-            if (std::abs(s.t.dot(t)) >= kSameFamilyCos) return true;
-            return singleTone && (s.family == 0 || s.family == m_family);
+            return sameDirection || s.family == 0 || s.family == m_family;
         });
     }
 
@@ -372,10 +375,9 @@ private:
     bool scanHeading(const Vec2 &q, Vec2 &heading) const {
         const int i = pixelIndex(q);
         const double dSep = spacingAt(i);
-        // A same-family line within d_sep would reject any seed here: skip the wider
-        // search. (In cross tone only same-direction lines block, in either direction.)
+        // A same-family line within d_sep would reject any seed here: skip the wider search.
         const double rNear = 0.98 * dSep;
-        if (m_family == 0 && m_grid.any(q, rNear, [&](const Sample &s) {
+        if (m_grid.any(q, rNear, [&](const Sample &s) {
                 return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
             }))
             return false;
@@ -561,6 +563,7 @@ private:
     SampleGrid m_grid;
     std::vector<uint8_t> m_blocked;
     std::vector<float> m_crossWeight; // crossWeight() per pixel
+    std::vector<double> m_spacing[2]; // familySpacingPx() per family and pixel (double, as measured)
     std::vector<Disc> m_discs;
     std::vector<uint8_t> m_nearDisc;
     double m_offCos = 1, m_offSin = 0;
@@ -646,10 +649,11 @@ double maxHatchDensity(const styles::HatchStyle &style) {
 }
 
 double crossWeight(const ScreenField &field, size_t pixel) {
+    static const double c0 = std::cos(kCrossCollapseDeg * M_PI / 180.0),
+                        c1 = std::cos((kCrossCollapseDeg + kCrossCollapseBandDeg) * M_PI / 180.0);
     const Eigen::Vector2f &d0 = field.dir0[pixel], &d1 = field.dir1[pixel];
-    const double c = std::min(1.0, std::abs(double(d0.dot(d1))));
-    const double angle = std::acos(c) * 180.0 / M_PI;
-    const double t = std::clamp((angle - kCrossCollapseDeg) / kCrossCollapseBandDeg, 0.0, 1.0);
+    const double c = std::abs(double(d0.dot(d1)));
+    const double t = std::clamp((c0 - c) / (c0 - c1), 0.0, 1.0);
     return t * t * (3.0 - 2.0 * t);
 }
 

@@ -5,18 +5,28 @@
 /// second, crossing family in dark regions (Hertzmann & Zorin 2000 tone levels).
 ///
 /// Spacing. One family of lines of width w at spacing s covers w / s of the paper;
-/// two crossing families cover 1 − (1 − w/s)². hatchSpacingPx() solves these for s
-/// and clamps to the style's [minSpacingPx, maxSpacingPx]; this s is the local
-/// d_sep, and d_test = 0.5 d_sep. Both are evaluated at the query point, so spacing
-/// varies smoothly with tone.
+/// two crossing families cover 1 − (1 − w/s)². familyCoverage() splits a target
+/// density between the families, familySpacingPx() turns each share into a spacing
+/// clamped to the style's [minSpacingPx, maxSpacingPx]; this s is the local d_sep
+/// and d_test = 0.5 d_sep, both evaluated at the query point, so spacing varies
+/// smoothly with tone.
 ///
-/// Families. Family 0 hatches wherever density >= highlightDensity, family 1 where
-/// density >= crossDensity, along the other screen direction. Because a cross field
-/// has no global labels, "same family" is decided by direction: a line keeps away
-/// from samples whose tangent is within 55° of its own heading (a margin over the 45°
-/// measureHatches() uses), from every sample of its own family (so each family's layer
-/// never crosses itself), and where the tone asks for a single family from every
-/// family-0 sample. The keep-away distance is the larger d_test of the two points.
+/// Families. Family 0 hatches wherever density >= highlightDensity; family 1, the
+/// cross-hatching, fades in above crossDensity over kCrossFeatherBand (sparse lines
+/// first, an even split at the top of the band) along the other screen direction,
+/// and gives way to family 0 where foreshortening folds both directions together
+/// (crossWeight()). Each stroke's end tone is staggered around its family's
+/// threshold, so strokes do not all end on one iso-line. A cross field has no
+/// global labels, so "same family" is decided by direction: a line keeps away from
+/// samples whose tangent is within 55° of its own heading (a margin over the 45°
+/// measureHatches() uses); where the tone asks for a single family it also keeps
+/// away from every family-0 sample (mid-tones never cross). In cross tone lines of
+/// other directions never stop it, so where two fronts of the first family meet at
+/// a label jump both run on instead of leaving a crack; a first-family line that
+/// mostly crosses earlier first-family lines is moved to family 1 afterwards, so
+/// each layer keeps one direction. A last pass seeds holes in cross tone that
+/// Jobard–Lefer's full-d_sep seeding leaves between diverging lines. The keep-away
+/// distance is the larger d_test of the two points.
 
 #include "renderer/gbuffer.h"
 #include "renderer/screen_field.h"
@@ -88,7 +98,8 @@ inline constexpr double kCrossCollapseDeg = 55.0;
 inline constexpr double kCrossCollapseBandDeg = 20.0;
 
 /// How far the second family can be drawn at `pixel` of `field`: smoothstep of the
-/// angle between dir0 and dir1 over [kCrossCollapseDeg, + kCrossCollapseBandDeg].
+/// cosine between dir0 and dir1 from cos kCrossCollapseDeg (0) to
+/// cos(kCrossCollapseDeg + kCrossCollapseBandDeg) (1).
 double crossWeight(const ScreenField &field, size_t pixel);
 
 /// d_sep (px) of family `family` (0 or 1) at `density`: strokeWidthPx over its
@@ -112,10 +123,12 @@ double localSpacingPx(double density, const styles::HatchStyle &style);
 /// \param report optional; filled with counts and measureHatches() results.
 /// Strokes also stop at the edge of their tone band, where the line turns by more
 /// than 12° in one step, when they would come within d_test of a same-direction line,
-/// and at the disc of radius d_sep around each visible singularity. Strokes shorter
-/// than minLengthPx are dropped. Tracing is sequential (Jobard–Lefer is order
+/// and at the disc of radius d_sep (at the darkest tone within it) around each
+/// visible singularity. Strokes shorter than minLengthPx or than kStubLengthRatio
+/// times their mean d_sep (2 in the hole pass) are dropped. Tapers are at most
+/// three line widths long. Tracing is sequential (Jobard–Lefer is order
 /// dependent); the output is identical for any thread count. Stroke ids follow
-/// creation order: all family-0 strokes, then family 1.
+/// creation order: the first family's pass, the second's, then the hole pass.
 /// Empty image or no valid pixel: an empty list.
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
                         const GBuffer &gbuffer, const styles::HatchStyle &style, uint32_t seed,
@@ -125,8 +138,10 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
 /// length, same-family spacing violations (every stroke vertex against the segments
 /// of other strokes of the same family within 45° of its direction, closer than
 /// (1 − tolerance) d_test at that vertex; `tolerance` absorbs the chord error of
-/// polylines sampled at 0.2 d_sep), and strokes whose segments enter a disc of radius
-/// (1 − tolerance) d_sep around a visible singularity of `field`.
+/// polylines sampled at 0.2 d_sep), strokes whose segments enter a disc of radius
+/// (1 − tolerance) d_sep around a visible singularity of `field`, and stubs. d_sep
+/// here is the first family's (localSpacingPx with crossWeight), the densest
+/// spacing the tone asks for, whichever layer a stroke ended up in.
 /// Only strokes of kind Hatch are looked at.
 HatchReport measureHatches(const StrokeList &strokes, const ScreenField &field,
                            const std::vector<float> &targetDensity,

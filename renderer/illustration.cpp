@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "renderer/embree_scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -89,6 +90,34 @@ Image illustrationExr(const Illustration &il) {
     surface.angle0 = il.screen.angle0;
     surface.angle1 = il.screen.angle1;
     return inkExrImage(il.layers, il.composite, surface);
+}
+
+InkMaps illustrationInkMaps(const Illustration &il, const styles::HatchStyle &style) {
+    // Through the EXR image itself, so the values (float rounding, zeroed angles off
+    // the object) are exactly those `rosyhatch inspect` would read from the file.
+    const Image exr = illustrationExr(il);
+    const std::vector<std::string> &names = exr.channelNames;
+    auto channel = [&](const char *name) {
+        const auto it = std::find(names.begin(), names.end(), name);
+        ROSY_CHECK(it != names.end());
+        const size_t c = size_t(it - names.begin()), nc = size_t(exr.nChannels);
+        std::vector<float> v(size_t(exr.width) * size_t(exr.height));
+        for (size_t i = 0; i < v.size(); ++i) v[i] = exr.data[i * nc + c];
+        return v;
+    };
+    InkMaps maps;
+    maps.width = exr.width;
+    maps.height = exr.height;
+    maps.hatch0 = channel("ink.hatch0");
+    maps.hatch1 = channel("ink.hatch1");
+    maps.coverage = channel("ink.coverage");
+    maps.target = channel("tone.target");
+    maps.angle0 = channel("field.angle0");
+    maps.angle1 = channel("field.angle1");
+    maps.mask = channel("mask");
+    maps.hatchSpacingPx = float(nominalHatchSpacingPx(style)); // the header stores a float
+    maps.crossDensity = float(style.crossDensity);
+    return maps;
 }
 
 } // namespace rosy::renderer

@@ -14,6 +14,7 @@
 #include "renderer/gbuffer.h"
 #include "renderer/hatching.h"
 #include "renderer/image.h"
+#include "renderer/inspect.h"
 #include "renderer/raster.h"
 #include "renderer/screen_field.h"
 #include "renderer/shading.h"
@@ -60,6 +61,11 @@ Illustration renderIllustration(const IllustrationInput &input);
 
 /// The EXR of an illustration: final image plus the named channels of raster.h.
 Image illustrationExr(const Illustration &illustration);
+
+/// The channels `rosyhatch inspect` reads from the EXR, taken from the illustration
+/// in memory (same values as illustrationExr() writes), with the style's nominal
+/// spacing and cross density as the EXR header would carry them.
+InkMaps illustrationInkMaps(const Illustration &illustration, const styles::HatchStyle &style);
 
 /// The nominal hatch spacing (px) at mid density, stored in the EXR header so
 /// `rosyhatch inspect` can blur at the right scale.

@@ -365,7 +365,13 @@ void measureSeams(const InkMaps &maps, Grid g, const InspectOptions &options, In
                     }
                 }
         }
-        if (int(group.size()) >= options.seamMinGroupPx) seam += (long long)group.size();
+        if (int(group.size()) >= options.seamMinGroupPx) {
+            seam += (long long)group.size();
+            if (options.keepSeamMask) {
+                res.seamMask.resize(n, 0);
+                for (size_t i : group) res.seamMask[i] = 1;
+            }
+        }
     }
     res.crossPixels = crossPixels;
     res.seamPixels = seam;
@@ -519,6 +525,19 @@ std::string inspectJson(const InspectResult &r) {
     w.field("cross_density", r.crossDensity);
     w.endObject();
     return w.str();
+}
+
+Image seamPicture(const InkMaps &maps, const InspectResult &result) {
+    Image out(maps.width, maps.height, {"R", "G", "B"});
+    const size_t n = size_t(maps.width) * size_t(maps.height);
+    for (size_t i = 0; i < n; ++i) {
+        const bool seam = i < result.seamMask.size() && result.seamMask[i];
+        const float grey = 1.0f - 0.8f * std::clamp(i < maps.coverage.size() ? maps.coverage[i] : 0.0f, 0.0f, 1.0f);
+        out.data[3 * i + 0] = seam ? 1.0f : grey;
+        out.data[3 * i + 1] = seam ? 0.0f : grey;
+        out.data[3 * i + 2] = seam ? 0.0f : grey;
+    }
+    return out;
 }
 
 } // namespace rosy::renderer

@@ -11,6 +11,9 @@
 ///  - ink outside the silhouette;
 ///  - seams: light cracks in cross-hatched regions (seam_fraction).
 
+#include "renderer/image.h"
+
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -64,6 +67,8 @@ struct InspectOptions {
     double seamEdgeDistancePx = 4.0;
     double seamCoverageRatio = 1.0 / 3.0;
     int seamMinGroupPx = 30;
+    /// Keep the seam pixels (InspectResult::seamMask) for seamPicture().
+    bool keepSeamMask = false;
 };
 
 /// The measures; NaN where nothing could be measured (e.g. no hatch ink).
@@ -101,7 +106,13 @@ struct InspectResult {
     long long seamPixels = 0;  ///< gap pixels counted (in groups large enough)
     long long crossPixels = 0; ///< the denominator
     double crossDensity = 0.0; ///< the cross density used (file, else option)
+    /// With InspectOptions::keepSeamMask: 1 at each counted seam pixel, row-major.
+    std::vector<uint8_t> seamMask;
 };
+
+/// A picture for the eye: the combined ink in grey on white, the counted seam
+/// pixels of `result` (inspected with keepSeamMask) in red. RGB, maps' size.
+Image seamPicture(const InkMaps &maps, const InspectResult &result);
 
 /// Computes every measure. Deterministic (no sampling); cost O(pixels).
 /// \throws CheckFailure if a non-empty map has the wrong size (a caller bug);
