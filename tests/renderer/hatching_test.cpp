@@ -320,3 +320,75 @@ TEST(Hatching, SameStrokesForOneAndTwoThreads) {
         }
     }
 }
+
+TEST(Hatching, StubsAreStrokesShorterThanFourSpacings) {
+    Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 1.8, 128, 128);
+    Scene s(field::makeGrid(4), cam);
+    s.field = constantField(*s.frames, 2);
+    s.render();
+    styles::HatchStyle st;
+    const float density = 0.3f; // one family: d_sep = 1.8 / 0.3 = 6 px, a stub is < 24 px
+    ASSERT_NEAR(familySpacingPx(density, 0, st), 6.0, 1e-6); // 0.3f is not 0.3
+    StrokeList list;
+    list.width = list.height = 128;
+    auto add = [&](double length, double y) {
+        Stroke stroke;
+        stroke.kind = StrokeKind::Hatch;
+        stroke.id = uint32_t(list.strokes.size());
+        for (double x = 20; x <= 20 + length + 1e-9; x += length / 8) stroke.points.push_back(Vec2(x, y));
+        stroke.widths.assign(stroke.points.size(), 1.8f);
+        list.strokes.push_back(stroke);
+    };
+    add(100.0, 30.0); // long
+    add(25.0, 50.0);  // just over four spacings
+    add(23.0, 70.0);  // a stub
+    add(8.0, 90.0);   // a dash
+    const HatchReport r = measureHatches(list, s.screen, s.uniformDensity(density), st);
+    EXPECT_EQ(r.strokes, 4);
+    EXPECT_EQ(r.stubs, 2);
+    EXPECT_DOUBLE_EQ(r.stubFraction, 0.5);
+}
+
+TEST(Hatching, TracedStrokesAreNoStubs) {
+    // The tracer drops what the measure would call a stub: on a plane with a tone
+    // ramp (so spacing changes along the way) no stroke is shorter than 4 d_sep.
+    Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 1.8, 256, 256);
+    Scene s(field::makeGrid(4), cam);
+    s.field = constantField(*s.frames, 4);
+    s.render();
+    std::vector<float> density(s.gbuffer.nPixels());
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) density[size_t(y * 256 + x)] = 0.12f + 0.6f * float(x) / 255.0f;
+    styles::HatchStyle st;
+    HatchReport report;
+    traceHatches(s.screen, density, s.gbuffer, st, 3, &report);
+    ASSERT_GT(report.strokes, 50);
+    EXPECT_EQ(report.stubs, 0);
+    EXPECT_EQ(report.minSpacingViolations, 0);
+}
+
+TEST(Hatching, FamilyCoverageSplitsTheToneAndFadesTheCrossFamilyIn) {
+    styles::HatchStyle st;
+    for (double rho = 0.0; rho <= 0.9; rho += 0.01) {
+        const auto [a, b] = familyCoverage(rho, st);
+        if (rho < st.highlightDensity) {
+            EXPECT_EQ(a + b, 0.0) << rho;
+            continue;
+        }
+        EXPECT_NEAR(1.0 - (1.0 - a) * (1.0 - b), rho, 1e-12) << rho; // the two together give the tone
+        EXPECT_GE(a, b - 1e-12) << rho;
+        if (rho < st.crossDensity) EXPECT_EQ(b, 0.0) << rho;
+    }
+    // Continuous where the second family starts, an even split at the top of the band.
+    const auto below = familyCoverage(st.crossDensity - 1e-9, st), above = familyCoverage(st.crossDensity + 1e-9, st);
+    EXPECT_NEAR(below[0], above[0], 1e-6);
+    EXPECT_NEAR(above[1], 0.0, 1e-6);
+    const double top = st.crossDensity + kCrossFeatherBand;
+    const auto even = familyCoverage(top, st);
+    EXPECT_NEAR(even[0], even[1], 1e-12);
+    EXPECT_NEAR(even[1], 1.0 - std::sqrt(1.0 - top), 1e-12);
+    // Where the screen directions have folded together the first family takes it all.
+    const auto folded = familyCoverage(0.7, st, 0.0);
+    EXPECT_DOUBLE_EQ(folded[0], 0.7);
+    EXPECT_EQ(folded[1], 0.0);
+}

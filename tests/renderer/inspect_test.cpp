@@ -235,3 +235,118 @@ TEST(ReadInkMaps, MissingFileIsAnIoErrorAndPlainImageAnInputError) {
         EXPECT_NE(what.find("mask"), std::string::npos) << what;
     }
 }
+
+namespace {
+
+/// Even cross-hatching on the disc: two families of lines 1.8 px wide, 3.6 px apart
+/// (each covers half the paper, together 75 %), a target of 0.6 (cross tone).
+InkMaps crossHatched(int size) {
+    InkMaps m = drawing(size, lines(size, 20 * kDeg, evenOffsets(3.6, 60), 1.8), 20 * kDeg, 0.6);
+    m.hatch1 = lines(size, 110 * kDeg, evenOffsets(3.6, 60), 1.8);
+    for (size_t i = 0; i < m.coverage.size(); ++i) {
+        m.coverage[i] = 1.0f - (1.0f - m.hatch0[i]) * (1.0f - m.hatch1[i]);
+        m.coverage[i] *= m.mask[i];
+        m.hatch0[i] *= m.mask[i];
+        m.hatch1[i] *= m.mask[i];
+    }
+    m.crossDensity = 0.45;
+    return m;
+}
+
+/// Clears the ink in a band |t − offset| < halfWidth across the image, t along the
+/// normal of direction angleRad: a crack through both families.
+void crack(InkMaps &m, double angleRad, double offset, double halfWidth, double maxLength = 1e9) {
+    const int size = m.width;
+    const double nx = -std::sin(angleRad), ny = std::cos(angleRad), c = size / 2.0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const double px = x + 0.5 - c, py = y + 0.5 - c;
+            const double t = px * nx + py * ny, along = px * ny - py * nx;
+            if (std::fabs(t - offset) < halfWidth && std::fabs(along) < maxLength) {
+                const size_t i = size_t(y) * size_t(size) + size_t(x);
+                m.coverage[i] = m.hatch0[i] = m.hatch1[i] = 0.0f;
+            }
+        }
+}
+
+} // namespace
+
+TEST(InspectInk, EvenCrossHatchingHasNoSeam) {
+    const InkMaps m = crossHatched(200);
+    const InspectResult r = inspectInk(m);
+    EXPECT_GT(r.crossPixels, 20000);
+    EXPECT_EQ(r.seamPixels, 0);
+    EXPECT_EQ(r.seamFraction, 0.0);
+    EXPECT_DOUBLE_EQ(r.crossDensity, 0.45);
+}
+
+TEST(InspectInk, ACrackThroughBothFamiliesIsASeam) {
+    InkMaps m = crossHatched(200);
+    crack(m, 65 * kDeg, 10.0, 4.0); // an 8 px light curve, two spacings wide
+    InspectOptions o;
+    o.keepSeamMask = true;
+    const InspectResult r = inspectInk(m, o);
+    // The crack's blurred coverage falls below a third of the target along most of
+    // its length inside the disc (about 8 px x 160 px, less its blurred margins).
+    EXPECT_GT(r.seamPixels, 500);
+    EXPECT_GT(r.seamFraction, 0.02);
+    EXPECT_LT(r.seamFraction, 0.08);
+    ASSERT_EQ(r.seamMask.size(), m.mask.size());
+    const Image pic = seamPicture(m, r);
+    EXPECT_EQ(pic.width, 200);
+    size_t red = 0;
+    for (size_t i = 0; i < r.seamMask.size(); ++i) red += pic.data[3 * i] == 1.0f && pic.data[3 * i + 1] == 0.0f;
+    EXPECT_EQ(red, size_t(r.seamPixels));
+}
+
+TEST(InspectInk, OneMissingLineOrASmallHoleIsNoSeam) {
+    // A single missing line (a gap of 2 spacings in one family) keeps the other
+    // family's ink: blurred coverage stays above a third of the target.
+    InkMaps m = crossHatched(200);
+    for (size_t i = 0; i < m.coverage.size(); ++i) {
+        const int x = int(i % 200), y = int(i / 200);
+        const double t = (x + 0.5 - 100) * -std::sin(20 * kDeg) + (y + 0.5 - 100) * std::cos(20 * kDeg);
+        if (std::fabs(t - 0.3) < 1.5) m.hatch0[i] = 0.0f;
+        m.coverage[i] = m.mask[i] * (1.0f - (1.0f - m.hatch0[i]) * (1.0f - m.hatch1[i]));
+    }
+    EXPECT_EQ(inspectInk(m).seamPixels, 0);
+    // A blank spot about 5 px across leaves fewer than 30 gap pixels once blurred.
+    InkMaps hole = crossHatched(200);
+    crack(hole, 0.0, 0.0, 2.5, 2.5);
+    EXPECT_EQ(inspectInk(hole).seamPixels, 0);
+    // Light tone (below the cross density) is never measured.
+    InkMaps light = crossHatched(200);
+    crack(light, 65 * kDeg, 10.0, 4.0);
+    light.target.assign(light.target.size(), 0.3f);
+    const InspectResult r = inspectInk(light);
+    EXPECT_EQ(r.crossPixels, 0);
+    EXPECT_TRUE(std::isnan(r.seamFraction));
+}
+
+TEST(InspectInk, SeamsNearTheSilhouetteAreNotCounted) {
+    // A crack tangent to the disc's rim, within 4 px of the silhouette, is the
+    // silhouette's business (strokes keep a guard band from it), not a seam.
+    InkMaps m = crossHatched(200);
+    crack(m, 0.0, 0.45 * 200 - 2.0, 2.0);
+    EXPECT_EQ(inspectInk(m).seamPixels, 0);
+}
+
+TEST(InspectInk, CrossDensityComesFromTheFileHeader) {
+    const fs::path path = fs::path(testing::TempDir()) / "inspect_cross.exr";
+    InkLayers layers;
+    layers.width = layers.height = 8;
+    for (std::vector<float> *v : {&layers.hatch0, &layers.hatch1, &layers.contour}) v->assign(64, 0.0f);
+    Image composite(8, 8, {"R", "G", "B"});
+    SurfaceChannels surf;
+    surf.targetDensity.assign(64, 0.5f);
+    surf.mask.assign(64, 1.0f);
+    writeImage(inkExrImage(layers, composite, surf), path.string(), inkExrWriteOptions(6.0, 0.62));
+    const InkMaps m = readInkMaps(path.string());
+    fs::remove(path);
+    EXPECT_FLOAT_EQ(float(m.crossDensity), 0.62f);
+    EXPECT_DOUBLE_EQ(m.hatchSpacingPx, 6.0);
+    // Without the attribute: NaN, and inspect falls back to the option's 0.45.
+    InkMaps none = m;
+    none.crossDensity = std::nan("");
+    EXPECT_DOUBLE_EQ(inspectInk(none).crossDensity, 0.45);
+}
