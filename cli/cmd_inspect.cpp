@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "renderer/image.h"
 #include "renderer/inspect.h"
 
 #include <tbb/global_control.h>
@@ -23,6 +24,7 @@ namespace {
 struct InspectCliOptions {
     std::string input;
     std::string jsonPath;
+    std::string seamsPath; ///< --seams: picture of the seams over the ink
     int threads = 0;
 };
 
@@ -42,21 +44,37 @@ void runInspect(const InspectCliOptions &opt) {
         checkNotAnInput(opt.jsonPath, opt.input, "rendering");
     }
 
+    if (!opt.seamsPath.empty()) {
+        if (!renderer::isSupportedImagePath(opt.seamsPath))
+            throw InputError(FileLoc{"--seams"}, "cannot write an image named '" + opt.seamsPath + "'",
+                             std::string("use one of the extensions ") + renderer::supportedImageExtensions());
+        checkWritable(opt.seamsPath);
+        checkNotAnInput(opt.seamsPath, opt.input, "rendering");
+        if (!opt.jsonPath.empty()) checkNotAnInput(opt.seamsPath, opt.jsonPath, "--json output");
+    }
+    // Both outputs are published together, or neither (core/atomic_file.h).
+    OutputBatch batch;
+
     renderer::InkMaps maps = renderer::readInkMaps(opt.input);
-    renderer::InspectResult r = renderer::inspectInk(maps);
+    renderer::InspectOptions options;
+    options.keepSeamMask = !opt.seamsPath.empty();
+    renderer::InspectResult r = renderer::inspectInk(maps, options);
 
     std::cout << "alignment_median_deg: " << fixed(r.alignmentMedianDeg, "%.3f") << "\n"
               << "alignment_p90_deg: " << fixed(r.alignmentP90Deg, "%.3f") << "\n"
               << "tone_mae: " << fixed(r.toneMae, "%.4f") << "\n"
               << "spacing_cv: " << fixed(r.spacingCv, "%.4f") << "\n"
               << "ink_outside_silhouette_px: " << r.inkOutsideSilhouettePx << "\n"
+              << "seam_fraction: " << fixed(r.seamFraction, "%.4f") << " (" << r.seamPixels << " of "
+              << r.crossPixels << " cross-hatched px, cross density " << fixed(r.crossDensity, "%.2f")
+              << (std::isfinite(maps.crossDensity) ? " from the file" : " by default") << ")\n"
               << "(alignment samples " << r.alignmentSamples << ", spacing samples " << r.spacingSamples
               << ", hatch spacing " << fixed(r.hatchSpacingPx, "%.2f") << " px"
               << (maps.hatchSpacingPx > 0 ? " from the file" : " measured") << ")\n";
 
-    if (!opt.jsonPath.empty()) {
-        writeTextAtomically(opt.jsonPath, renderer::inspectJson(r));
-    }
+    if (!opt.jsonPath.empty()) writeTextAtomically(opt.jsonPath, renderer::inspectJson(r));
+    if (!opt.seamsPath.empty()) renderer::writeImage(renderer::seamPicture(maps, r), opt.seamsPath);
+    batch.commit();
 }
 
 } // namespace
@@ -64,9 +82,11 @@ void runInspect(const InspectCliOptions &opt) {
 void addInspectCommand(CLI::App &app, Action &action) {
     auto opt = std::make_shared<InspectCliOptions>();
     CLI::App *sub = app.add_subcommand(
-        "inspect", "measure hatch alignment, tone error, spacing spread and stray ink of a rendered .exr");
+        "inspect", "measure hatch alignment, tone error, spacing spread, stray ink and seams of a rendered .exr");
     sub->add_option("render", opt->input, "multi-channel .exr written by rosyhatch render")->required();
     sub->add_option("--json", opt->jsonPath, "also write the measures as JSON to FILE");
+    sub->add_option("--seams", opt->seamsPath,
+                    "also draw the ink in grey with the seam pixels counted by seam_fraction in red to an image");
     sub->add_option("--threads", opt->threads, "worker threads (0 = all cores); results do not depend on it")
         ->check(CLI::Range(0, 4096));
     sub->callback([opt, &action] { action = [opt] { runInspect(*opt); }; });

@@ -449,3 +449,53 @@ TEST(MeshTransformCli, ScaledTranslatedBunnyRendersTheSamePicture) {
     EXPECT_LT(same8, 0.01);
     EXPECT_GT(other8, 0.03);
 }
+
+TEST(CompareCli, ReportHoldsEachPanelsSeamsAndStrokesNearSingularities) {
+    const fs::path scene = writeScene("cmp-report.yaml", "mesh: {primitive: torus, nu: 48, nv: 24}\n"
+                                                         "camera: {direction: [0.2, 1, 0.9], resolution: [160, 120]}\n");
+    const fs::path out = workDir() / "cmp-report.png", report = workDir() / "cmp-report.json";
+    fs::remove(report);
+    const CliRun r = run("compare " + quoted(scene) + " --symmetry 2,4 -o " + quoted(out) + " --report " + quoted(report),
+                         "cmp-report");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    // stderr: each label followed by its figures.
+    const std::regex line(R"(\(([ab])\) ([24])-RoSy: \d+ singularit(y|ies); seam_fraction (\d\.\d{4}), strokes_near_singularities (\d+))");
+    const std::string err = r.err;
+    EXPECT_EQ(std::distance(std::sregex_iterator(err.begin(), err.end(), line), std::sregex_iterator()), 2) << err;
+    // The report: two panels, each with the same figures.
+    const std::string json = slurp(report);
+    const std::regex panel(R"re("symmetry": ([24]),\s*"singularities": \d+,\s*"seam_fraction": ([0-9.e-]+),\s*"strokes_near_singularities": (\d+),\s*"stub_fraction": ([0-9.e-]+))re");
+    int panels = 0;
+    for (auto it = std::sregex_iterator(json.begin(), json.end(), panel); it != std::sregex_iterator(); ++it) {
+        ++panels;
+        const double seam = std::stod((*it)[2]);
+        EXPECT_GE(seam, 0.0);
+        EXPECT_LE(seam, 1.0);
+        EXPECT_EQ((*it)[3], "0"); // strokes keep clear of singularities
+    }
+    EXPECT_EQ(panels, 2) << json;
+}
+
+TEST(InspectCli, PrintsSeamFractionAndDrawsTheSeams) {
+    const fs::path scene = writeScene("inspect-seams.yaml", "mesh: {primitive: torus}\n"
+                                                            "camera: {resolution: [200, 160]}\n"
+                                                            "style: {ambient: 0.02}\n");
+    const fs::path exr = workDir() / "inspect-seams.exr", png = workDir() / "inspect-seams.png",
+                   json = workDir() / "inspect-seams.json";
+    for (const fs::path &p : {exr, png, json}) fs::remove(p);
+    ASSERT_EQ(run("render " + quoted(scene) + " -o " + quoted(exr) + " --quiet", "inspect-seams-render").exitCode, 0);
+    const CliRun r = run("inspect " + quoted(exr) + " --json " + quoted(json) + " --seams " + quoted(png), "inspect-seams");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(seam_fraction: (\d\.\d{4}) \((\d+) of (\d+) cross-hatched px, cross density 0\.45 from the file\))")))
+        << r.out;
+    EXPECT_GT(std::stoll(m[3]), 0); // the dark side is cross-hatched
+    const std::string text = slurp(json);
+    EXPECT_NE(text.find("\"seam_pixels\": " + std::string(m[2])), std::string::npos) << text;
+    OIIO::ImageBuf picture(png.string());
+    ASSERT_TRUE(picture.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    EXPECT_EQ(picture.spec().width, 200);
+    EXPECT_EQ(picture.spec().height, 160);
+    // A picture name inspect cannot write is refused before any work, exit 2.
+    EXPECT_EQ(run("inspect " + quoted(exr) + " --seams " + quoted(workDir() / "x.seams"), "inspect-seams-bad").exitCode, 2);
+}
