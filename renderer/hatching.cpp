@@ -88,7 +88,7 @@ struct Sample {
     double dTest; // d_test at the sample's own pixel
 };
 
-/// Uniform grid over the image holding sample indices. Samples are only appended
+/// Uniform grid over the image holding the samples by cell. Samples are only appended
 /// or removed from the back, so each cell's list stays in insertion order and a
 /// rejected stroke is undone by popping its samples in reverse.
 class SampleGrid {
@@ -100,16 +100,16 @@ public:
 
     void add(const Sample &s) {
         const size_t c = cellOf(s.p);
-        m_cells[c].push_back(int(m_samples.size()));
-        m_samples.push_back(s);
+        m_cells[c].push_back(s);
+        m_order.push_back(uint32_t(c));
         // Maxima only grow: after a rejected stroke is popped they stay an upper
         // bound, which is all anyWithin() needs.
         m_cellMaxR[c] = std::max(m_cellMaxR[c], s.dTest);
         m_maxR = std::max(m_maxR, s.dTest);
     }
     void popBack() {
-        m_cells[cellOf(m_samples.back().p)].pop_back();
-        m_samples.pop_back();
+        m_cells[m_order.back()].pop_back();
+        m_order.pop_back();
     }
 
     /// Calls f(sample) for every sample that may lie within max(r, sample.dTest) of p,
@@ -129,13 +129,13 @@ public:
                 const double dx = std::max({0.0, cx * m_cell - p.x(), p.x() - (cx + 1) * m_cell});
                 const double reach = std::max(r, m_cellMaxR[c]);
                 if (dx * dx + dy * dy >= reach * reach) continue;
-                for (int i : m_cells[c])
-                    if (f(m_samples[size_t(i)])) return true;
+                for (const Sample &s : m_cells[c])
+                    if (f(s)) return true;
             }
         }
         return false;
     }
-    const std::vector<Sample> &samples() const { return m_samples; }
+    size_t size() const { return m_order.size(); }
 
     /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
     template <typename F> bool any(const Vec2 &p, double r, F &&f) const {
@@ -145,8 +145,8 @@ public:
         const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
         for (int cy = y0; cy <= y1; ++cy)
             for (int cx = x0; cx <= x1; ++cx)
-                for (int i : m_cells[size_t(cy) * size_t(m_nx) + size_t(cx)])
-                    if (f(m_samples[size_t(i)])) return true;
+                for (const Sample &s : m_cells[size_t(cy) * size_t(m_nx) + size_t(cx)])
+                    if (f(s)) return true;
         return false;
     }
 
@@ -158,10 +158,10 @@ private:
     }
     double m_cell;
     int m_nx, m_ny;
-    std::vector<std::vector<int>> m_cells;
+    std::vector<std::vector<Sample>> m_cells; // samples stored by cell: queries read them in order
     std::vector<double> m_cellMaxR; // upper bound of the samples' d_test per cell
     double m_maxR = 0;
-    std::vector<Sample> m_samples;
+    std::vector<uint32_t> m_order; // cell of each sample, in insertion order (for popBack)
 };
 
 struct Disc {
@@ -483,7 +483,7 @@ private:
 
     bool traceStroke(const Vec2 &seed, const Vec2 &dir) {
         const int id = int(m_strokes.size());
-        const size_t before = m_grid.samples().size();
+        const size_t before = m_grid.size();
         Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
         m_grid.add(s0);
         std::vector<Sample> fwd, bwd;
@@ -499,7 +499,7 @@ private:
         meanDTest /= double(1 + fwd.size() + bwd.size());
         const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
-            while (m_grid.samples().size() > before) m_grid.popBack();
+            while (m_grid.size() > before) m_grid.popBack();
             return false;
         }
         Stroke stroke;
