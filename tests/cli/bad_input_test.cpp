@@ -238,6 +238,10 @@ TEST(BadInputCli, DiskFullMidWriteKeepsThePreviousFileAndNoTemporary) {
         {{"out.png"}, "render s.yaml -o out.png", 4},
         {{"out.exr"}, "render s.yaml -o out.exr", 4},
         {{"out.svg"}, "render s.yaml -o out.svg", 4},
+        // libjpeg's default error handler used to exit(1) from inside the writer,
+        // leaving the temporary; JPEG now writes through a descriptor that reports.
+        {{"out.jpg"}, "render s.yaml -o out.jpg", 4},
+        {{"out.tif"}, "render s.yaml -o out.tif", 4},
         {{"ok.png", "report.json", "t.json"}, "render s.yaml -o ok.png --report report.json --timings t.json", 1},
         {{"field.ply"}, "field s.yaml --export field.ply", 4},
         {{"field.json"}, "field s.yaml --separatrices --json field.json", 4},

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 using namespace rosy::scenes;
@@ -291,4 +292,140 @@ TEST(BadScene, StrayTopLevelCommaIsASyntaxErrorNotAHang) {
     EXPECT_TRUE(startsWith(msg, path() + ":3:3: error: YAML syntax error: unexpected ','")) << msg;
     msg = parseError("mesh: {primitive: icosphere}\n---\n,\n");
     EXPECT_TRUE(startsWith(msg, path() + ":3:1: error: YAML syntax error: unexpected ','")) << msg;
+}
+
+// ---------------------------------------------------------------------------
+// Issue 16 ("Reliability II"): limits that used to be skipped.
+// ---------------------------------------------------------------------------
+
+// Primitives ignored --max-faces (a 4096 x 4096 torus reached 17 GB). The count
+// comes from the parameters, and must be the count the builder produces.
+TEST(BadScene, PrimitiveFaceCountsAreExactAndTheLimitIsCheckedBeforeBuilding) {
+    const std::vector<std::string> scenes = {
+        "mesh: {primitive: icosphere, subdivisions: 2}", "mesh: {primitive: ellipsoid, subdivisions: 1}",
+        "mesh: {primitive: torus, nu: 10, nv: 7}",       "mesh: {primitive: genus2, resolution: 20}",
+        "mesh: {primitive: cube, n: 3}",                 "mesh: {primitive: tetrahedron, subdivisions: 2}",
+        "mesh: {primitive: octahedron, subdivisions: 1}", "mesh: {primitive: dodecahedron, subdivisions: 1}",
+        "mesh: {primitive: icosahedron}",                "mesh: {primitive: disk, rings: 5}",
+        "mesh: {primitive: grid, n: 6}",                 "mesh: {primitive: cylinder, n_around: 9, n_along: 4}"};
+    ASSERT_EQ(scenes.size(), primitiveNames().size());
+    for (const std::string &text : scenes) {
+        SCOPED_TRACE(text);
+        const SceneDesc desc = parseScene(text + "\ncamera: {resolution: [16, 16]}\n", path());
+        const long long count = primitiveFaceCount(desc.mesh);
+        EXPECT_EQ(buildScene(desc).mesh.nFaces(), count);
+        EXPECT_NO_THROW(buildScene(desc, rosy::field::LoadOptions{count}));
+        try {
+            buildScene(desc, rosy::field::LoadOptions{count - 1});
+            ADD_FAILURE() << "the limit was not applied";
+        } catch (const rosy::InputError &e) {
+            EXPECT_TRUE(contains(e.what(), "faces, more than the limit of " + std::to_string(count - 1))) << e.what();
+            EXPECT_TRUE(startsWith(e.what(), path() + ":1:19: error: the ")) << e.what();
+        }
+    }
+    // The 33.5-million-face torus is refused by the default limit without being built.
+    const SceneDesc big = parseScene("mesh: {primitive: torus, nu: 4096, nv: 4096}\n", path());
+    EXPECT_EQ(primitiveFaceCount(big.mesh), 33554432);
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_THROW(buildScene(big), rosy::InputError);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+}
+
+// --set values went straight to yaml-cpp and the walkers: a 9-level alias bomb
+// passed 6 GB in 40 s where the same text in a file is refused at once.
+TEST(BadScene, SetValuesMeetTheNestingAliasAndCycleLimits) {
+    const std::string scene = "mesh: {primitive: icosphere}\n";
+    auto setError = [&](const std::vector<std::string> &overrides) {
+        try {
+            parseScene(scene, path(), overrides);
+        } catch (const rosy::InputError &e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    std::string bomb = "[&a0 [x, x, x, x, x, x, x, x, x]";
+    for (int i = 1; i <= 9; ++i) {
+        const std::string prev = "*a" + std::to_string(i - 1);
+        bomb += ", &a" + std::to_string(i) + " [" + prev;
+        for (int k = 1; k < 9; ++k) bomb += ", " + prev;
+        bomb += "]";
+    }
+    bomb += "]";
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string msg = setError({"lights=" + bomb});
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+    EXPECT_TRUE(startsWith(msg, "--set lights=[&a0")) << msg;
+    EXPECT_TRUE(contains(msg, "error: the value expands to more than 10000 values")) << msg;
+    msg = setError({"camera.fov=" + std::string(40, '[') + std::string(40, ']')});
+    EXPECT_TRUE(contains(msg, "error: nesting deeper than 32 levels")) << msg;
+    // Block nesting is found by the walk, not by the bracket count.
+    std::string block = "\n";
+    for (int i = 0; i < 40; ++i) block += std::string(size_t(2 * i), ' ') + "k" + std::to_string(i) + ":\n";
+    block += std::string(80, ' ') + "v\n";
+    msg = setError({"style=" + block});
+    EXPECT_TRUE(contains(msg, "error: nesting deeper than 32 levels")) << msg;
+    msg = setError({"lights=&a [*a]"});
+    EXPECT_TRUE(startsWith(msg, "--set lights=&a [*a]: error: an alias refers to a node that contains it")) << msg;
+    // Several values together stay within the budget.
+    std::string list = "[0";
+    for (int i = 1; i < 6000; ++i) list += ", " + std::to_string(i);
+    list += "]";
+    msg = setError({"a=" + list, "b=" + list});
+    EXPECT_TRUE(contains(msg, "error: the --set values hold more than 10000 values together")) << msg;
+    // An ordinary value still works.
+    EXPECT_EQ(setError({"camera.fov=40", "lights=[{type: directional, direction: [1, 1, 1]}]"}), "");
+}
+
+TEST(BadScene, WholeNumbersMayBeWrittenWithAPoint) {
+    SceneDesc d = parseScene("mesh: {primitive: torus, nu: 12.0}\ncamera: {resolution: [128.0, 1.28e2]}\n", path());
+    EXPECT_EQ(d.camera.resolution.value[0], 128);
+    EXPECT_EQ(d.camera.resolution.value[1], 128);
+    EXPECT_EQ(d.mesh.params.at("nu").value, 12);
+    std::string msg = parseError("mesh: {primitive: icosphere}\ncamera: {resolution: [128.5, 128]}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:23: error: camera.resolution width must be a whole number, got 128.5"))
+        << msg;
+    msg = parseError("mesh: {primitive: icosphere}\nseed: -3.0\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:7: error: seed must be in [0, 4294967295], got -3")) << msg;
+    msg = parseError("mesh: {primitive: icosphere}\nstyle: {seed: 5e9}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:15: error: style.seed must be in [0, 4294967295], got 5e+09")) << msg;
+}
+
+TEST(BadScene, SmoothingLengthAndPaperSizeRangesNameTheSetting) {
+    std::string msg = parseError("mesh: {primitive: icosphere}\nfield: {smoothing_length: 1e-200}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:27: error: field.smoothing_length must be 0 (raw curvature directions) "
+                                        "or in [1e-06, 10], got 1e-200"))
+        << msg;
+    EXPECT_NO_THROW(parseScene("mesh: {primitive: icosphere}\nfield: {smoothing_length: 0}\n", path()));
+    EXPECT_NO_THROW(parseScene("mesh: {primitive: icosphere}\nfield: {smoothing_length: 1e-6}\n", path()));
+    msg = parseError("mesh: {primitive: icosphere}\nstyle: {page: {size: 1e308x1e308}}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:22: error: style.page.size: paper size '1e308x1e308' is out of range: "
+                                        "each side must be in [1, 100000] mm"))
+        << msg;
+    msg = parseError("mesh: {primitive: icosphere}\nstyle: {page: {size: b5}}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":2:22: error: style.page.size: unknown paper size 'b5'")) << msg;
+    EXPECT_NO_THROW(parseScene("mesh: {primitive: icosphere}\nstyle: {page: {size: 100000x30}}\n", path()));
+}
+
+TEST(BadScene, NonRegularMeshesAndPresetFoldersAreNamedForWhatTheyAre) {
+    const fs::path d = dir() / "kinds";
+    fs::remove_all(d);
+    fs::create_directories(d / "looks.yaml");
+    ASSERT_EQ(::mkfifo((d / "pipe.off").c_str(), 0600), 0);
+    const std::string scene = (d / "s.yaml").string();
+    auto error = [&](const std::string &text) {
+        try {
+            parseScene(text, scene);
+        } catch (const rosy::InputError &e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    std::string msg = error("mesh: pipe.off\n");
+    EXPECT_TRUE(startsWith(msg, scene + ":1:7: error: mesh '" + (d / "pipe.off").string() +
+                                    "' is not a regular file (a device, pipe or socket)"))
+        << msg;
+    msg = error("mesh: {primitive: icosphere}\nstyle: {preset: looks.yaml}\n");
+    EXPECT_TRUE(startsWith(msg, scene + ":2:17: error: style preset '" + (d / "looks.yaml").string() +
+                                    "' is a folder, not a file"))
+        << msg;
 }
