@@ -112,7 +112,7 @@ public:
     FileLoc loc(const YAML::Node &node) const {
         // A node a --set override put in the tree is located at that override.
         for (const auto &[origin, where] : m_origins)
-            if (origin.is(node)) return where;
+            if (origin.is(node)) return m_originLocs[where];
         YAML::Mark m = node.Mark();
         // yaml-cpp marks are 0-based; a null mark (-1) means "unknown".
         return FileLoc{m_path, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0};
@@ -239,6 +239,15 @@ public:
 
     /// Locates `node` and everything below it at `where` (a --set override).
     void addOrigin(const YAML::Node &node, const FileLoc &where) {
+        // One copy of the location per override (it holds the whole override text),
+        // an index per node.
+        if (m_originLocs.empty() || m_originLocs.back().path != where.path) m_originLocs.push_back(where);
+        addOrigin(node, m_originLocs.size() - 1);
+    }
+
+private:
+    std::string m_path;
+    void addOrigin(const YAML::Node &node, size_t where) {
         m_origins.emplace_back(node, where);
         if (node.IsMap())
             for (auto it = node.begin(); it != node.end(); ++it) {
@@ -246,12 +255,11 @@ public:
                 addOrigin(it->second, where);
             }
         else if (node.IsSequence())
-            for (size_t i = 0; i < node.size(); ++i) addOrigin(node[i], where);
+            for (auto it = node.begin(); it != node.end(); ++it) addOrigin(*it, where);
     }
 
-private:
-    std::string m_path;
-    std::vector<std::pair<YAML::Node, FileLoc>> m_origins;
+    std::vector<std::pair<YAML::Node, size_t>> m_origins; ///< node, index into m_originLocs
+    std::vector<FileLoc> m_originLocs;
 };
 
 /// `mesh.transform: {translate: [x, y, z], rotate: [rx, ry, rz], scale: s | [sx, sy, sz]}`.

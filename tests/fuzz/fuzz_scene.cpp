@@ -29,25 +29,6 @@ void writeText(const std::string &name, const char *text) {
     fuzz::writeScratch(name, reinterpret_cast<const uint8_t *>(text), std::strlen(text));
 }
 
-/// Faces a primitive would have, from its parameters (an upper bound; 1e300 if unknown).
-double primitiveFaces(const scenes::MeshDesc &m) {
-    auto P = [&](const char *k) {
-        auto it = m.params.find(k);
-        return it == m.params.end() ? 1e300 : it->second.value;
-    };
-    const std::string &n = m.primitive->value;
-    if (n == "icosphere" || n == "ellipsoid") return 20 * std::pow(4.0, P("subdivisions"));
-    if (n == "torus") return 2 * P("nu") * P("nv");
-    if (n == "genus2") return 40 * P("resolution") * P("resolution");
-    if (n == "cube") return 12 * P("n") * P("n");
-    if (n == "tetrahedron" || n == "octahedron" || n == "dodecahedron" || n == "icosahedron")
-        return 60 * std::pow(4.0, P("subdivisions"));
-    if (n == "disk") return 12 * P("rings") * P("rings");
-    if (n == "grid") return 2 * P("n") * P("n");
-    if (n == "cylinder") return 2 * P("n_around") * P("n_along");
-    return 1e300;
-}
-
 bool unit(const Eigen::Vector3d &v) { return v.allFinite() && std::abs(v.norm() - 1) < 1e-6; }
 
 } // namespace
@@ -83,7 +64,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (desc.mesh.file) {
         const std::string parent = std::filesystem::path(desc.mesh.file->value).lexically_normal().parent_path();
         if (parent != std::filesystem::path(dir).lexically_normal().string()) return 0;
-    } else if (!desc.mesh.primitive || !(primitiveFaces(desc.mesh) <= kMaxFaces)) {
+    } else if (!desc.mesh.primitive || !(scenes::primitiveFaceCount(desc.mesh) <= kMaxFaces)) {
         return 0;
     }
     scenes::Scene scene;
