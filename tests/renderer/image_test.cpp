@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
+
+#include <sys/resource.h>
 
 using namespace rosy::renderer;
 namespace fs = std::filesystem;
@@ -156,17 +159,40 @@ TEST(WriteImage, MissingFolderIsAnIoError) {
 
 TEST(WriteImage, FailedWriteLeavesExistingFileAndNoTemporary) {
     fs::path dir = freshDir("failed");
-    // A 249-character name is legal, but the temporary name next to it (dot, .tmp,
-    // pid, counter) exceeds the
-    // 255-byte limit of common file systems, so opening the temporary file fails.
-    fs::path path = dir / (std::string(245, 'k') + ".png");
+    const fs::path path = dir / "picture.png";
     {
         std::ofstream(path, std::ios::binary) << "precious";
     }
     ASSERT_EQ(slurp(path), "precious");
-    Image img(2, 2, {"R", "G", "B"});
-    EXPECT_THROW(writeImage(img, path.string()), rosy::IoError);
+    Image img(64, 64, {"R", "G", "B"});
+    for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float((i * 2654435761u) % 1000) / 1000.0f; // incompressible
+    // A file size limit of 64 bytes (SIGXFSZ ignored, so write() fails with EFBIG
+    // as on a full disk): the PNG cannot be written.
+    struct rlimit old {};
+    ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+    const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit small = old;
+    small.rlim_cur = 64;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+    bool threwIo = false;
+    try {
+        writeImage(img, path.string());
+    } catch (const rosy::IoError &) {
+        threwIo = true;
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldHandler);
+    EXPECT_TRUE(threwIo);
     EXPECT_EQ(slurp(path), "precious");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1); // no temporary left
+}
+
+TEST(WriteImage, LongLegalNamesAreWritten) {
+    // A 249-byte name is legal; the temporary beside it must not exceed NAME_MAX.
+    fs::path dir = freshDir("longname");
+    const fs::path path = dir / (std::string(245, 'k') + ".png");
+    writeImage(Image(2, 2, {"R", "G", "B"}), path.string());
+    EXPECT_TRUE(fs::is_regular_file(path));
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
 
