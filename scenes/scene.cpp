@@ -1118,8 +1118,13 @@ void applyOverride(Parser &p, YAML::Node &root, const std::string &text) {
         throw InputError(where, "the value is not valid YAML: " + e.msg,
                          "quote lists and maps for the shell, e.g. --set 'camera.resolution=[512, 512]'");
     }
-    if (!value || value.IsNull())
-        throw InputError(where, "the value of '" + keyPath + "' is empty", "write a value after '='");
+    if (!value || value.IsNull()) {
+        if (valueText.find_first_not_of(" \t\r\n") == std::string::npos)
+            throw InputError(where, "the value of '" + keyPath + "' is empty", "write a value after '='");
+        // `~`, `null` or a lone `,`: YAML reads these as no value at all.
+        throw InputError(where, "'" + valueText + "' is no value in YAML (null)",
+                         "write a number, text, [list] or {map}; quote text such as ',' for the shell and YAML");
+    }
     {
         std::vector<YAML::Node> stack;
         long visited = 0;

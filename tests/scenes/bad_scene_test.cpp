@@ -372,6 +372,11 @@ TEST(BadScene, SetValuesMeetTheNestingAliasAndCycleLimits) {
     list += "]";
     msg = setError({"a=" + list, "b=" + list});
     EXPECT_TRUE(contains(msg, "error: the --set values hold more than 10000 values together")) << msg;
+    // A value YAML reads as null is not called "empty".
+    msg = setError({"camera.fov=,"});
+    EXPECT_TRUE(startsWith(msg, "--set camera.fov=,: error: ',' is no value in YAML (null)")) << msg;
+    msg = setError({"camera.fov="});
+    EXPECT_TRUE(startsWith(msg, "--set camera.fov=: error: the value of 'camera.fov' is empty")) << msg;
     // An ordinary value still works.
     EXPECT_EQ(setError({"camera.fov=40", "lights=[{type: directional, direction: [1, 1, 1]}]"}), "");
 }
