@@ -140,6 +140,16 @@ public:
             error = "OpenImageIO has no writer: " + OIIO::geterror();
             return false;
         }
+        // Pixels, then close (which flushes); the first failure's message wins.
+        auto writeAndClose = [&] {
+            bool ok = out->write_image(oiioType(dataType), pixels);
+            if (!ok) error = out->geterror();
+            if (!out->close() && ok) {
+                ok = false;
+                error = out->geterror();
+            }
+            return ok;
+        };
         // TIFF goes to the path itself: OpenImageIO 2.4.7's TIFF writer produces a file
         // without a valid directory through any IOProxy (its own IOFile included), and
         // libtiff reports write failures as errors rather than ending the process.
@@ -148,13 +158,7 @@ public:
                 error = out->geterror();
                 return false;
             }
-            bool ok = out->write_image(oiioType(dataType), pixels);
-            if (!ok) error = out->geterror();
-            if (!out->close() && ok) {
-                ok = false;
-                error = out->geterror();
-            }
-            return ok;
+            return writeAndClose();
         }
         // Read-write: libtiff reads back what it wrote when it finishes a directory.
         FdCloser file{::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)};
@@ -167,12 +171,7 @@ public:
             error = out->geterror();
             return false;
         }
-        bool ok = out->write_image(oiioType(dataType), pixels);
-        if (!ok) error = out->geterror();
-        if (!out->close() && ok) {
-            ok = false;
-            error = out->geterror();
-        }
+        bool ok = writeAndClose();
         if (proxy.failure() != 0) {
             error = std::string("write failed: ") + std::strerror(proxy.failure());
             return false;
