@@ -9,6 +9,7 @@ find_package(OpenEXR REQUIRED)
 find_package(OpenImageIO REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
+find_package(fmt REQUIRED)
 # SuiteSparse 5 (CHOLMOD, UMFPACK) ships no CMake config on bookworm.
 find_path(SUITESPARSE_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY cholmod REQUIRED)

@@ -1,4 +1,4 @@
-#include "field/mesh.h"
+#include "field/mesh/mesh.h"
 
 #include <cstdio>
 

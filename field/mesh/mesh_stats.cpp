@@ -1,4 +1,4 @@
-#include "field/mesh_stats.h"
+#include "field/mesh/mesh_stats.h"
 
 namespace rosy::field {
 

@@ -1,0 +1,55 @@
+#pragma once
+/// \file mesh_io.h
+/// Reading meshes from OBJ, PLY (ascii and binary, faces or triangle strips),
+/// OFF and STL files with our own checked readers (one per format, read_*.cpp;
+/// docs/meshes.md says why not OpenMesh's), followed by validation and repair
+/// into a clean Mesh (see mesh.h) in named steps (repair.cpp). Every repair is
+/// reported once per kind through rosy::warn() with the file name; formats,
+/// limits, errors and every repair treatment are documented in docs/meshes.md.
+/// Writing goes through OpenMesh (poly_mesh.h).
+
+#include "field/mesh/mesh.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rosy::field {
+
+struct LoadOptions {
+    /// Files with more faces than this are rejected before allocating (InputError).
+    int64_t maxFaces = 20'000'000;
+    /// Repair awkward but valid meshes (the default). When false, anything that
+    /// would need a repair is an InputError instead.
+    bool repair = true;
+};
+
+/// Counts of the repairs made while loading (all zero for a clean file).
+struct LoadReport {
+    int polygonsTriangulated = 0;
+    int degenerateFacesDropped = 0;   ///< repeated vertex or zero area
+    int duplicateVerticesMerged = 0;
+    int duplicateFacesDropped = 0;
+    int isolatedVerticesDropped = 0;
+    int nonManifoldEdgesSplit = 0;
+    int nonManifoldVerticesSplit = 0;
+    int facesReoriented = 0;
+};
+
+/// Loads and repairs a mesh. The format comes from the extension (.obj .ply .off .stl,
+/// case-insensitive).
+/// \throws IoError if the file is missing, unreadable or a folder.
+/// \throws InputError naming the file for: unknown extension, unparsable content,
+///   no faces after repair, a non-finite coordinate, a face index out of range,
+///   more faces than options.maxFaces, a non-orientable surface.
+Mesh loadMesh(const std::string &path, const LoadOptions &options = {},
+              LoadReport *report = nullptr);
+
+/// Builds a clean Mesh from a raw polygon soup with the same repairs as loadMesh().
+/// Polygons (>= 3 vertices) are fan-triangulated from their first vertex after
+/// dropping consecutive repeated indices. `name` is used in messages.
+Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<int>> &polygons,
+                    const std::string &name, const LoadOptions &options = {},
+                    LoadReport *report = nullptr);
+
+} // namespace rosy::field

@@ -1,0 +1,447 @@
+#include "field/mesh/mesh_io.h"
+
+#include "core/diagnostics.h"
+#include "core/error.h"
+#include "field/mesh/mesh_scan.h"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+
+// Repair of a polygon soup into a clean Mesh, as a sequence of named steps
+// (repairAndBuild() at the end of the file reads as the list of them). Each
+// step counts what it changed into a LoadReport; report() turns a nonzero count
+// into one warning per kind, or into an InputError when repair is disabled.
+
+namespace rosy::field {
+namespace {
+
+using detail::kMaxCoordinate;
+
+struct UnionFind {
+    std::vector<int> parent;
+    explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+    int find(int x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    // The smaller id becomes the root so results do not depend on call order.
+    void unite(int a, int b) {
+        a = find(a);
+        b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+uint64_t edgeKey(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+}
+
+/// Incident faces of every undirected edge, in face order.
+struct EdgeFaces {
+    std::vector<uint64_t> keys;      // sorted unique edge keys
+    std::vector<int> offset, faces;  // CSR: faces of keys[i] at offset[i]..offset[i+1]
+};
+
+EdgeFaces buildEdgeFaces(const std::vector<Face> &tris) {
+    // Bucket the edges by their smaller vertex (a counting sort), then sort each
+    // small bucket by (larger vertex, face): the same order as one global sort of
+    // (key, face) pairs, without its cost.
+    int nV = 0;
+    for (const Face &t : tris) nV = std::max({nV, t[0] + 1, t[1] + 1, t[2] + 1});
+    std::vector<int> start(size_t(nV) + 1, 0);
+    for (const Face &t : tris)
+        for (int k = 0; k < 3; ++k) ++start[size_t(std::min(t[k], t[(k + 1) % 3])) + 1];
+    for (int v = 0; v < nV; ++v) start[v + 1] += start[v];
+    std::vector<std::pair<int, int>> bucket(3 * tris.size()); // (larger vertex, face)
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f = 0; f < int(tris.size()); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const int a = tris[f][k], b = tris[f][(k + 1) % 3];
+            bucket[fill[std::min(a, b)]++] = {std::max(a, b), f};
+        }
+    EdgeFaces ef;
+    ef.keys.reserve(bucket.size() / 2 + 1);
+    ef.offset.reserve(bucket.size() / 2 + 2);
+    ef.faces.reserve(bucket.size());
+    for (int v = 0; v < nV; ++v) {
+        const auto first = bucket.begin() + start[v], last = bucket.begin() + start[v + 1];
+        std::sort(first, last);
+        for (auto it = first; it != last; ++it) {
+            const uint64_t key = edgeKey(v, it->first);
+            if (ef.keys.empty() || ef.keys.back() != key) {
+                ef.keys.push_back(key);
+                ef.offset.push_back(int(ef.faces.size()));
+            }
+            ef.faces.push_back(it->second);
+        }
+    }
+    ef.offset.push_back(int(ef.faces.size()));
+    return ef;
+}
+
+int cornerOf(const Face &t, int v) { return t[0] == v ? 0 : t[1] == v ? 1 : 2; }
+
+/// True if face t runs a -> b (rather than b -> a).
+bool runs(const Face &t, int a, int b) {
+    for (int k = 0; k < 3; ++k)
+        if (t[k] == a && t[(k + 1) % 3] == b) return true;
+    return false;
+}
+
+/// Splits vertices so that around each vertex the faces form a single fan
+/// connected through manifold edges. Edges with more than two faces join only
+/// one pair of faces (the first consistently oriented pair, else the first two);
+/// the others are cut loose along that edge. Returns the number of vertices
+/// whose corners fell into more than one group under the given joining rule.
+int splitVertices(std::vector<Vec3> &positions, std::vector<Face> &tris, bool cutEdges,
+                  int *nNonManifoldEdges) {
+    const int nF = int(tris.size());
+    EdgeFaces ef = buildEdgeFaces(tris);
+    UnionFind uf(3 * nF);
+    int nBad = 0;
+    for (size_t e = 0; e < ef.keys.size(); ++e) {
+        const int *fs = ef.faces.data() + ef.offset[e];
+        const int n = ef.offset[e + 1] - ef.offset[e];
+        const int a = int(ef.keys[e] >> 32), b = int(ef.keys[e] & 0xffffffffu);
+        auto join = [&](int f, int g) {
+            uf.unite(3 * f + cornerOf(tris[f], a), 3 * g + cornerOf(tris[g], a));
+            uf.unite(3 * f + cornerOf(tris[f], b), 3 * g + cornerOf(tris[g], b));
+        };
+        if (n == 2) join(fs[0], fs[1]);
+        if (n > 2) {
+            ++nBad;
+            if (!cutEdges) {
+                for (int i = 1; i < n; ++i) join(fs[0], fs[i]);
+            } else {
+                int partner = 1;
+                const bool dir0 = runs(tris[fs[0]], a, b);
+                for (int i = 1; i < n; ++i)
+                    if (runs(tris[fs[i]], a, b) != dir0) {
+                        partner = i;
+                        break;
+                    }
+                join(fs[0], fs[partner]);
+            }
+        }
+    }
+    if (nNonManifoldEdges) *nNonManifoldEdges = nBad;
+    // One vertex per (vertex, corner group); the first group keeps the old index.
+    std::vector<int> groupVertex(3 * nF, -1);
+    std::vector<int> firstRoot(positions.size(), -1);
+    std::vector<uint8_t> counted(positions.size(), 0);
+    int nSplit = 0;
+    for (int c = 0; c < 3 * nF; ++c) {
+        int r = uf.find(c);
+        int v = tris[c / 3][c % 3];
+        if (groupVertex[r] < 0) {
+            if (firstRoot[v] < 0) {
+                firstRoot[v] = r;
+                groupVertex[r] = v;
+            } else {
+                groupVertex[r] = int(positions.size());
+                positions.push_back(positions[v]);
+                if (!counted[v]) {
+                    counted[v] = 1;
+                    ++nSplit;
+                }
+            }
+        }
+        tris[c / 3][c % 3] = groupVertex[r];
+    }
+    return nSplit;
+}
+
+void report(const std::string &name, const LoadOptions &options, const char *kind, int count,
+            const std::string &what, const std::string &treatment) {
+    if (count == 0) return;
+    if (!options.repair)
+        throw InputError(FileLoc{name}, std::to_string(count) + " " + what,
+                         "fix the file or load it with repair enabled");
+    rosy::warn(name, kind, std::to_string(count) + " " + what + ": " + treatment);
+}
+
+/// Rejects non-finite or absurd coordinates and more polygons than the face limit
+/// (the readers check these too; repairAndBuild() is also called on generated soups).
+void rejectBadCoordinatesAndCounts(const std::vector<Vec3> &positions, size_t nPolygons, const FileLoc &loc,
+                                   const LoadOptions &options) {
+    for (size_t v = 0; v < positions.size(); ++v) {
+        if (!positions[v].allFinite())
+            throw InputError(loc, "vertex " + std::to_string(v) + " has a non-finite coordinate",
+                             "every coordinate must be a finite number");
+        if (positions[v].cwiseAbs().maxCoeff() > kMaxCoordinate)
+            throw InputError(loc, "vertex " + std::to_string(v) + " has an absurd coordinate (limit 1e15)",
+                             "rescale the mesh; rendering does not depend on its scale");
+    }
+    if (int64_t(nPolygons) > options.maxFaces)
+        throw InputError(loc,
+                         "the mesh has " + std::to_string(nPolygons) + " faces, more than the limit of " +
+                             std::to_string(options.maxFaces),
+                         "simplify the mesh or raise the face limit");
+}
+
+/// Fan triangulation from each polygon's first vertex after removing consecutive
+/// repeated indices; polygons left with fewer than 3 vertices are dropped (counted).
+std::vector<Face> fanTriangulatePolygons(const std::vector<std::vector<int>> &polygons, int nV,
+                                         const FileLoc &loc, LoadReport &rep) {
+    std::vector<Face> tris;
+    tris.reserve(polygons.size());
+    std::vector<int> poly;
+    for (size_t p = 0; p < polygons.size(); ++p) {
+        for (int idx : polygons[p])
+            if (idx < 0 || idx >= nV)
+                throw InputError(loc,
+                                 "face " + std::to_string(p) + " uses vertex index " + std::to_string(idx) +
+                                     " outside [0, " + std::to_string(nV) + ")",
+                                 "fix the face's indices");
+        poly.clear();
+        for (int idx : polygons[p])
+            if (poly.empty() || poly.back() != idx) poly.push_back(idx);
+        while (poly.size() > 1 && poly.back() == poly.front()) poly.pop_back();
+        if (poly.size() < 3) {
+            ++rep.degenerateFacesDropped;
+            continue;
+        }
+        if (poly.size() > 3) ++rep.polygonsTriangulated;
+        for (size_t k = 1; k + 1 < poly.size(); ++k) tris.push_back({poly[0], poly[k], poly[k + 1]});
+    }
+    return tris;
+}
+
+/// Points every face corner at the smallest-index vertex with the same
+/// coordinates. Returns that representative per original vertex.
+std::vector<int> mergeIdenticalVertices(const std::vector<Vec3> &positions, std::vector<Face> &tris,
+                                        LoadReport &rep) {
+    const int nV = int(positions.size());
+    std::vector<int> order(nV);
+    std::iota(order.begin(), order.end(), 0);
+    auto less = [&](int a, int b) {
+        const Vec3 &p = positions[a], &q = positions[b];
+        if (p.x() != q.x()) return p.x() < q.x();
+        if (p.y() != q.y()) return p.y() < q.y();
+        if (p.z() != q.z()) return p.z() < q.z();
+        return a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    std::vector<int> representative(nV);
+    for (int i = 0; i < nV; ++i) {
+        if (i > 0 && positions[order[i]] == positions[order[i - 1]]) {
+            representative[order[i]] = representative[order[i - 1]];
+            ++rep.duplicateVerticesMerged;
+        } else {
+            representative[order[i]] = order[i];
+        }
+    }
+    for (Face &t : tris)
+        for (int &v : t) v = representative[v];
+    return representative;
+}
+
+/// Drops faces with a repeated vertex or (numerically) zero area. The area test
+/// is relative to the longest edge so that it does not depend on scale.
+void dropDegenerateFaces(const std::vector<Vec3> &positions, std::vector<Face> &tris, LoadReport &rep) {
+    std::vector<Face> kept;
+    kept.reserve(tris.size());
+    for (const Face &t : tris) {
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+            ++rep.degenerateFacesDropped;
+            continue;
+        }
+        const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+        double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+        if ((b - a).cross(c - a).norm() <= 1e-12 * longest) {
+            ++rep.degenerateFacesDropped;
+            continue;
+        }
+        kept.push_back(t);
+    }
+    tris.swap(kept);
+}
+
+/// Duplicate faces (same vertex set, either orientation): keeps the first.
+void dropDuplicateFaces(std::vector<Face> &tris, LoadReport &rep) {
+    std::vector<std::pair<std::array<int, 3>, int>> sorted(tris.size());
+    for (int f = 0; f < int(tris.size()); ++f) {
+        std::array<int, 3> s = tris[f];
+        std::sort(s.begin(), s.end());
+        sorted[f] = {s, f};
+    }
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<uint8_t> drop(tris.size(), 0);
+    for (size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first) {
+            drop[sorted[i].second] = 1;
+            ++rep.duplicateFacesDropped;
+        }
+    std::vector<Face> kept;
+    kept.reserve(tris.size());
+    for (int f = 0; f < int(tris.size()); ++f)
+        if (!drop[f]) kept.push_back(tris[f]);
+    tris.swap(kept);
+}
+
+/// Counts vertices no face uses (merged duplicates do not count: they were
+/// reported as merged). compactVertices() drops them.
+int countIsolatedVertices(const std::vector<Face> &tris, const std::vector<int> &representative) {
+    const int nV = int(representative.size());
+    std::vector<uint8_t> used(nV, 0);
+    for (const Face &t : tris)
+        for (int v : t) used[v] = 1;
+    int n = 0;
+    for (int v = 0; v < nV; ++v)
+        if (!used[v] && representative[v] == v) ++n;
+    return n;
+}
+
+/// Counts non-manifold edges and pinched vertices without changing the mesh: a
+/// pass that joins every face on an edge tells which vertices are genuinely
+/// pinched (several fans).
+void countNonManifoldElements(const std::vector<Vec3> &positions, const std::vector<Face> &tris, LoadReport &rep) {
+    std::vector<Vec3> probePositions = positions;
+    std::vector<Face> probe = tris;
+    int nBadEdges = 0;
+    rep.nonManifoldVerticesSplit = splitVertices(probePositions, probe, false, &nBadEdges);
+    rep.nonManifoldEdgesSplit = nBadEdges;
+}
+
+/// Cuts edges with more than two faces and duplicates pinched vertices once per fan.
+void splitNonManifoldElements(std::vector<Vec3> &positions, std::vector<Face> &tris) {
+    int remaining = 0;
+    splitVertices(positions, tris, true, &remaining);
+    if (remaining == 0) return;
+    // A cut face can still meet its edge through other faces around both ends;
+    // detach such faces completely, then split fans again.
+    EdgeFaces ef = buildEdgeFaces(tris);
+    std::vector<uint8_t> detach(tris.size(), 0);
+    for (size_t e = 0; e < ef.keys.size(); ++e)
+        for (int i = ef.offset[e] + 2; i < ef.offset[e + 1]; ++i) detach[ef.faces[i]] = 1;
+    for (int f = 0; f < int(tris.size()); ++f)
+        if (detach[f])
+            for (int &v : tris[f]) {
+                positions.push_back(positions[v]);
+                v = int(positions.size()) - 1;
+            }
+    splitVertices(positions, tris, true, &remaining);
+}
+
+/// Drops unused vertices and re-indexes the rest in their old order.
+void compactVertices(std::vector<Vec3> &positions, std::vector<Face> &tris) {
+    std::vector<int> newIndex(positions.size(), -1);
+    for (const Face &t : tris)
+        for (int v : t) newIndex[v] = 0;
+    std::vector<Vec3> compact;
+    compact.reserve(positions.size());
+    for (size_t v = 0; v < positions.size(); ++v)
+        if (newIndex[v] == 0) {
+            newIndex[v] = int(compact.size());
+            compact.push_back(positions[v]);
+        }
+    for (Face &t : tris)
+        for (int &v : t) v = newIndex[v];
+    positions.swap(compact);
+}
+
+/// Consistent orientation by BFS over manifold edges, per component. The
+/// orientation that flips fewer faces wins (ties keep the first face's).
+/// \throws InputError if a component is not orientable.
+void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadReport &rep) {
+    const int nF = int(tris.size());
+    EdgeFaces ef = buildEdgeFaces(tris);
+    // Neighbour across each corner's edge (k -> k+1), or -1.
+    std::vector<int> nbr(3 * nF, -1);
+    for (size_t e = 0; e < ef.keys.size(); ++e) {
+        if (ef.offset[e + 1] - ef.offset[e] != 2) continue;
+        const int f = ef.faces[ef.offset[e]], g = ef.faces[ef.offset[e] + 1];
+        const int a = int(ef.keys[e] >> 32), b = int(ef.keys[e] & 0xffffffffu);
+        for (int k = 0; k < 3; ++k) {
+            const int x = tris[f][k], y = tris[f][(k + 1) % 3];
+            if ((x == a && y == b) || (x == b && y == a)) nbr[3 * f + k] = g;
+            const int u = tris[g][k], w = tris[g][(k + 1) % 3];
+            if ((u == a && w == b) || (u == b && w == a)) nbr[3 * g + k] = f;
+        }
+    }
+    std::vector<int8_t> flip(nF, -1);
+    std::vector<int> queue, comp;
+    for (int seed = 0; seed < nF; ++seed) {
+        if (flip[seed] >= 0) continue;
+        flip[seed] = 0;
+        queue.assign(1, seed);
+        comp.clear();
+        for (size_t qi = 0; qi < queue.size(); ++qi) {
+            const int f = queue[qi];
+            comp.push_back(f);
+            for (int k = 0; k < 3; ++k) {
+                const int g = nbr[3 * f + k];
+                if (g < 0) continue;
+                const int a = tris[f][k], b = tris[f][(k + 1) % 3];
+                // g must run b -> a once both carry their flips.
+                const bool sameDir = runs(tris[g], a, b);
+                const int8_t want = int8_t(sameDir ? !flip[f] : flip[f]);
+                if (flip[g] < 0) {
+                    flip[g] = want;
+                    queue.push_back(g);
+                } else if (flip[g] != want) {
+                    throw InputError(loc,
+                                     "the surface is not orientable (a Moebius-like band "
+                                     "around face " + std::to_string(f) + ")",
+                                     "N-RoSy frames need an orientation; cut the band open "
+                                     "or use an orientable surface");
+                }
+            }
+        }
+        int nFlipped = 0;
+        for (int f : comp) nFlipped += flip[f];
+        if (2 * nFlipped > int(comp.size()))
+            for (int f : comp) flip[f] = int8_t(!flip[f]);
+        for (int f : comp)
+            if (flip[f]) {
+                std::swap(tris[f][1], tris[f][2]);
+                ++rep.facesReoriented;
+            }
+    }
+}
+
+} // namespace
+
+Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<int>> &polygons,
+                    const std::string &name, const LoadOptions &options, LoadReport *reportOut) {
+    LoadReport rep;
+    const FileLoc loc{name};
+    rejectBadCoordinatesAndCounts(positions, polygons.size(), loc, options);
+    std::vector<Face> tris = fanTriangulatePolygons(polygons, int(positions.size()), loc, rep);
+    const std::vector<int> representative = mergeIdenticalVertices(positions, tris, rep);
+    dropDegenerateFaces(positions, tris, rep);
+    dropDuplicateFaces(tris, rep);
+    // The simple repairs are reported before the topological ones, so that with
+    // repair disabled the first problem found in the file is the one named.
+    report(name, options, "degenerate-faces", rep.degenerateFacesDropped,
+           "faces with a repeated vertex or zero area", "dropped");
+    report(name, options, "duplicate-vertices", rep.duplicateVerticesMerged,
+           "vertices with identical coordinates", "merged");
+    report(name, options, "duplicate-faces", rep.duplicateFacesDropped,
+           "duplicate faces (same vertices)", "dropped");
+    rep.isolatedVerticesDropped = countIsolatedVertices(tris, representative);
+    report(name, options, "isolated-vertices", rep.isolatedVerticesDropped,
+           "vertices not used by any face", "dropped");
+    if (tris.empty())
+        throw InputError(loc, "the mesh has no faces" +
+                                  std::string(polygons.empty() ? "" : " left after dropping degenerate ones"),
+                         "a surface mesh needs at least one triangle");
+
+    countNonManifoldElements(positions, tris, rep);
+    report(name, options, "nonmanifold-edges", rep.nonManifoldEdgesSplit,
+           "edges shared by more than two faces", "extra faces split off onto duplicated vertices");
+    report(name, options, "nonmanifold-vertices", rep.nonManifoldVerticesSplit,
+           "non-manifold vertices (several fans)", "duplicated once per fan");
+    if (rep.nonManifoldEdgesSplit > 0 || rep.nonManifoldVerticesSplit > 0) splitNonManifoldElements(positions, tris);
+    compactVertices(positions, tris);
+    orientFacesConsistently(tris, loc, rep);
+    report(name, options, "reoriented-faces", rep.facesReoriented,
+           "faces with inconsistent orientation", "flipped to agree with their neighbours");
+
+    if (reportOut) *reportOut = rep;
+    return Mesh::fromTriangles(std::move(positions), std::move(tris), name);
+}
+
+} // namespace rosy::field
