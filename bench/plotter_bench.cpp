@@ -7,12 +7,10 @@
 // Counters: penup_ratio (pen-up after / before), pendown_change (relative
 // pen-down change), paths (strokes after merging).
 
-#include "field/field_builder.h"
-#include "field/singularities.h"
-#include "renderer/embree_scene.h"
 #include "renderer/illustration.h"
 #include "renderer/plotter.h"
 #include "renderer/svg.h"
+#include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
 #include <benchmark/benchmark.h>
@@ -122,14 +120,7 @@ const StrokeList *bunnyStrokes() {
         } catch (const std::exception &) {
             return nullptr;
         }
-        scenes::Scene scene = scenes::buildScene(desc);
-        const field::TangentFrames frames(scene.mesh);
-        field::FieldResult fr = field::buildField(frames, desc.field.spec);
-        scenes::applyFieldEdits(frames, fr.field, desc.field.edits);
-        const field::SingularityReport sing = field::findSingularities(frames, fr.field);
-        const RayScene rays(scene.mesh);
-        IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sing, rays);
-        return std::make_unique<StrokeList>(renderIllustration(in).strokes);
+        return std::make_unique<StrokeList>(std::move(scenes::renderScene(desc).illustration->strokes));
     }();
     return strokes.get();
 }

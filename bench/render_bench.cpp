@@ -14,6 +14,7 @@
 #include "renderer/image.h"
 #include "renderer/hatching.h"
 #include "renderer/contours.h"
+#include "scenes/pipeline.h"
 #include "scenes/scene.h"
 #include "renderer/camera.h"
 #include "renderer/embree_scene.h"
@@ -110,27 +111,20 @@ BENCHMARK(BM_GBuffer)->Unit(benchmark::kMillisecond)->UseRealTime();
 namespace {
 struct BunnyScene {
     scenes::SceneDesc desc;
-    scenes::Scene scene;
-    std::unique_ptr<field::TangentFrames> frames;
-    field::FieldResult field;
-    field::SingularityReport singularities;
-    std::unique_ptr<renderer::RayScene> rays;
-    renderer::Illustration il; ///< every stage's output, from renderIllustration
-    renderer::IllustrationInput input() const {
-        return scenes::illustrationInput(scene, *frames, field.field, singularities, *rays);
-    }
+    scenes::RenderResult result; ///< the whole default render: every stage's output
+    const scenes::Scene &scene() const { return *result.loaded.scene; }
+    const field::TangentFrames &frames() const { return *result.loaded.frames; }
+    const field::RosyField &field() const { return result.field.field.field; }
+    const field::SingularityReport &singularities() const { return result.field.singularities; }
+    const renderer::RayScene &rays() const { return *result.rays; }
+    const renderer::Illustration &il() const { return *result.illustration; }
 };
 
 BunnyScene &bunnyScene() {
     static BunnyScene *b = [] {
         auto *x = new BunnyScene;
         x->desc = scenes::parseSceneFile(std::string(ROSY_DATA_DIR) + "/../scenes/bunny.yaml", {});
-        x->scene = scenes::buildScene(x->desc);
-        x->frames = std::make_unique<field::TangentFrames>(x->scene.mesh);
-        x->field = field::buildField(*x->frames, x->desc.field.spec);
-        x->singularities = field::findSingularities(*x->frames, x->field.field);
-        x->rays = std::make_unique<renderer::RayScene>(x->scene.mesh);
-        x->il = renderer::renderIllustration(x->input());
+        x->result = scenes::renderScene(x->desc);
         return x;
     }();
     return *b;
@@ -145,37 +139,37 @@ BENCHMARK(BM_BunnyLoad)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyBvh(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
-    for (auto _ : state) renderer::RayScene rays(b.scene.mesh);
+    for (auto _ : state) renderer::RayScene rays(b.scene().mesh);
 }
 BENCHMARK(BM_BunnyBvh)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyGBuffer(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
-    for (auto _ : state) benchmark::DoNotOptimize(renderer::renderGBuffer(*b.rays, b.scene.mesh, b.scene.camera));
+    for (auto _ : state) benchmark::DoNotOptimize(renderer::renderGBuffer(b.rays(), b.scene().mesh, b.scene().camera));
 }
 BENCHMARK(BM_BunnyGBuffer)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyTone(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state)
-        benchmark::DoNotOptimize(renderer::shadeLambert(b.il.gbuffer, *b.rays, b.scene.mesh, b.scene.camera,
-                                                        b.scene.lights, b.scene.shading));
+        benchmark::DoNotOptimize(renderer::shadeLambert(b.il().gbuffer, b.rays(), b.scene().mesh, b.scene().camera,
+                                                        b.scene().lights, b.scene().shading));
 }
 BENCHMARK(BM_BunnyTone)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyScreenField(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state)
-        benchmark::DoNotOptimize(renderer::computeScreenField(b.il.gbuffer, *b.frames, b.field.field,
-                                                              b.singularities, b.scene.camera));
+        benchmark::DoNotOptimize(renderer::computeScreenField(b.il().gbuffer, b.frames(), b.field(),
+                                                              b.singularities(), b.scene().camera));
 }
 BENCHMARK(BM_BunnyScreenField)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyHatching(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state)
-        benchmark::DoNotOptimize(renderer::traceHatches(b.il.screen, b.il.targetDensity, b.il.gbuffer,
-                                                        b.scene.style.hatch, b.scene.style.seed));
+        benchmark::DoNotOptimize(renderer::traceHatches(b.il().screen, b.il().targetDensity, b.il().gbuffer,
+                                                        b.scene().style.hatch, b.scene().style.seed));
 }
 BENCHMARK(BM_BunnyHatching)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -183,23 +177,23 @@ static void BM_BunnyMeasureHatching(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state)
         benchmark::DoNotOptimize(
-            renderer::measureHatches(b.il.strokes, b.il.screen, b.il.targetDensity, b.scene.style.hatch));
+            renderer::measureHatches(b.il().strokes, b.il().screen, b.il().targetDensity, b.scene().style.hatch));
 }
 BENCHMARK(BM_BunnyMeasureHatching)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyContours(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state)
-        benchmark::DoNotOptimize(renderer::extractContours(b.scene.mesh, b.scene.camera, *b.rays, b.il.gbuffer,
-                                                           b.scene.style.contour));
+        benchmark::DoNotOptimize(renderer::extractContours(b.scene().mesh, b.scene().camera, b.rays(), b.il().gbuffer,
+                                                           b.scene().style.contour));
 }
 BENCHMARK(BM_BunnyContours)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyRaster(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state) {
-        const renderer::InkLayers layers = renderer::rasterizeStrokes(b.il.strokes);
-        benchmark::DoNotOptimize(renderer::compositeInk(layers, b.scene.style));
+        const renderer::InkLayers layers = renderer::rasterizeStrokes(b.il().strokes);
+        benchmark::DoNotOptimize(renderer::compositeInk(layers, b.scene().style));
     }
 }
 BENCHMARK(BM_BunnyRaster)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -207,17 +201,17 @@ BENCHMARK(BM_BunnyRaster)->Unit(benchmark::kMillisecond)->UseRealTime();
 static void BM_BunnyWritePng(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     const std::string path = "/tmp/rosy_render_bench_bunny.png";
-    renderer::writeImage(b.il.composite, path); // loads the image module outside the timing
-    for (auto _ : state) renderer::writeImage(b.il.composite, path);
+    renderer::writeImage(b.il().composite, path); // loads the image module outside the timing
+    for (auto _ : state) renderer::writeImage(b.il().composite, path);
     std::remove(path.c_str());
 }
 BENCHMARK(BM_BunnyWritePng)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_BunnyIllustration(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
-    renderer::IllustrationInput in = b.input();
-    in.measureHatching = false; // as the CLI without --report
-    for (auto _ : state) benchmark::DoNotOptimize(renderer::renderIllustration(in));
+    for (auto _ : state) // measureHatching off, as the CLI without --report
+        benchmark::DoNotOptimize(
+            scenes::drawHatching(b.result.loaded, b.field(), b.singularities(), b.rays(), false));
 }
 BENCHMARK(BM_BunnyIllustration)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -233,37 +227,24 @@ static void BM_Render1MFaces4096(benchmark::State &state) {
     using Clock = std::chrono::steady_clock;
     const std::string scenePath = std::string(ROSY_DATA_DIR) + "/../scenes/bunny.yaml";
     for (auto _ : state) {
-        std::vector<std::pair<std::string, double>> ms;
-        auto t0 = Clock::now();
-        auto lap = [&](const char *name) {
-            const auto t = Clock::now();
-            ms.emplace_back(name, std::chrono::duration<double, std::milli>(t - t0).count());
-            t0 = t;
-        };
-        const auto start = t0;
+        const auto start = Clock::now();
         const scenes::SceneDesc desc = scenes::parseSceneFile(scenePath, {"camera.resolution=[4096, 4096]"});
-        scenes::Scene scene = scenes::buildScene(desc);
-        scene.mesh = field::subdivideMidpoint(field::subdivideMidpoint(scene.mesh));
-        lap("load");
-        const field::TangentFrames frames(scene.mesh);
-        lap("frames");
-        field::FieldResult fr = field::buildField(frames, desc.field.spec);
-        lap("field");
-        const field::SingularityReport sings = field::findSingularities(frames, fr.field);
-        lap("singularities");
-        const renderer::RayScene rays(scene.mesh);
-        lap("bvh");
-        renderer::IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sings, rays);
-        t0 = Clock::now();
-        const renderer::Illustration il = renderer::renderIllustration(in);
-        for (const auto &[stage, v] : il.timingsMs) ms.emplace_back(stage, v);
-        t0 = Clock::now();
+        const double parseMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        scenes::PipelineOptions options;
+        options.afterLoad = [](scenes::Scene &scene) {
+            scene.mesh = field::subdivideMidpoint(field::subdivideMidpoint(scene.mesh));
+        };
+        const scenes::RenderResult result = scenes::renderScene(desc, options);
+        scenes::StageTimings ms = result.timingsMs;
+        ms.front().second += parseMs; // load counts the scene file's parse too, as it always has
+        const renderer::Illustration &il = *result.illustration;
+        auto t0 = Clock::now();
         renderer::writeImage(il.composite, "/tmp/rosy_render_bench_1m.png");
-        lap("write");
+        ms.emplace_back("write", std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
         const double total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         for (const auto &[name, v] : ms) state.counters[name + "_ms"] = v;
         state.counters["total_ms"] = total;
-        state.counters["faces"] = scene.mesh.nFaces();
+        state.counters["faces"] = result.loaded.scene->mesh.nFaces();
         state.counters["strokes"] = double(il.strokes.strokes.size());
     }
     rusage usage{};

@@ -12,17 +12,19 @@
 #include "core/error.h"
 #include "core/json.h"
 #include "core/progress.h"
-#include "field/editing.h"
+#include "field/edits.h"
 #include "field/field_builder.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
 #include "field/smoothing.h"
+#include "renderer/bitmap_font.h"
 #include "renderer/image_io.h"
 #include "renderer/embree_scene.h"
 #include "renderer/field_picture.h"
 #include "renderer/illustration.h"
 #include "renderer/image.h"
 #include "renderer/inspect.h"
+#include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
@@ -36,136 +38,10 @@
 #include <limits>
 #include <memory>
 #include <optional>
-#include <set>
 #include <sstream>
 
 namespace rosy::cli {
 namespace {
-
-// --- a 5x7 bitmap font (our own glyphs), two extra rows for descenders ---------
-
-constexpr int kGlyphW = 5, kGlyphH = 9, kAdvance = 6;
-
-struct Glyph {
-    char c;
-    std::array<const char *, kGlyphH> rows;
-};
-
-// '#' is ink. Rows 0-6 sit above the baseline, 7-8 below it (descenders, comma).
-// clang-format off
-const Glyph kGlyphs[] = {
-    {' ', {".....", ".....", ".....", ".....", ".....", ".....", ".....", ".....", "....."}},
-    {'A', {".###.", "#...#", "#...#", "#####", "#...#", "#...#", "#...#", ".....", "....."}},
-    {'B', {"####.", "#...#", "#...#", "####.", "#...#", "#...#", "####.", ".....", "....."}},
-    {'C', {".###.", "#...#", "#....", "#....", "#....", "#...#", ".###.", ".....", "....."}},
-    {'D', {"####.", "#...#", "#...#", "#...#", "#...#", "#...#", "####.", ".....", "....."}},
-    {'E', {"#####", "#....", "#....", "####.", "#....", "#....", "#####", ".....", "....."}},
-    {'F', {"#####", "#....", "#....", "####.", "#....", "#....", "#....", ".....", "....."}},
-    {'G', {".###.", "#...#", "#....", "#.###", "#...#", "#...#", ".####", ".....", "....."}},
-    {'H', {"#...#", "#...#", "#...#", "#####", "#...#", "#...#", "#...#", ".....", "....."}},
-    {'I', {".###.", "..#..", "..#..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
-    {'J', {"..###", "...#.", "...#.", "...#.", "...#.", "#..#.", ".##..", ".....", "....."}},
-    {'K', {"#...#", "#..#.", "#.#..", "##...", "#.#..", "#..#.", "#...#", ".....", "....."}},
-    {'L', {"#....", "#....", "#....", "#....", "#....", "#....", "#####", ".....", "....."}},
-    {'M', {"#...#", "##.##", "#.#.#", "#.#.#", "#...#", "#...#", "#...#", ".....", "....."}},
-    {'N', {"#...#", "#...#", "##..#", "#.#.#", "#..##", "#...#", "#...#", ".....", "....."}},
-    {'O', {".###.", "#...#", "#...#", "#...#", "#...#", "#...#", ".###.", ".....", "....."}},
-    {'P', {"####.", "#...#", "#...#", "####.", "#....", "#....", "#....", ".....", "....."}},
-    {'Q', {".###.", "#...#", "#...#", "#...#", "#.#.#", "#..#.", ".##.#", ".....", "....."}},
-    {'R', {"####.", "#...#", "#...#", "####.", "#.#..", "#..#.", "#...#", ".....", "....."}},
-    {'S', {".####", "#....", "#....", ".###.", "....#", "....#", "####.", ".....", "....."}},
-    {'T', {"#####", "..#..", "..#..", "..#..", "..#..", "..#..", "..#..", ".....", "....."}},
-    {'U', {"#...#", "#...#", "#...#", "#...#", "#...#", "#...#", ".###.", ".....", "....."}},
-    {'V', {"#...#", "#...#", "#...#", "#...#", "#...#", ".#.#.", "..#..", ".....", "....."}},
-    {'W', {"#...#", "#...#", "#...#", "#.#.#", "#.#.#", "#.#.#", ".#.#.", ".....", "....."}},
-    {'X', {"#...#", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "#...#", ".....", "....."}},
-    {'Y', {"#...#", "#...#", ".#.#.", "..#..", "..#..", "..#..", "..#..", ".....", "....."}},
-    {'Z', {"#####", "....#", "...#.", "..#..", ".#...", "#....", "#####", ".....", "....."}},
-    {'a', {".....", ".....", ".###.", "....#", ".####", "#...#", ".####", ".....", "....."}},
-    {'b', {"#....", "#....", "####.", "#...#", "#...#", "#...#", "####.", ".....", "....."}},
-    {'c', {".....", ".....", ".###.", "#....", "#....", "#....", ".###.", ".....", "....."}},
-    {'d', {"....#", "....#", ".####", "#...#", "#...#", "#...#", ".####", ".....", "....."}},
-    {'e', {".....", ".....", ".###.", "#...#", "#####", "#....", ".###.", ".....", "....."}},
-    {'f', {"..##.", ".#...", ".#...", "###..", ".#...", ".#...", ".#...", ".....", "....."}},
-    {'g', {".....", ".....", ".####", "#...#", "#...#", "#...#", ".####", "....#", ".###."}},
-    {'h', {"#....", "#....", "####.", "#...#", "#...#", "#...#", "#...#", ".....", "....."}},
-    {'i', {"..#..", ".....", ".##..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
-    {'j', {"...#.", ".....", "..##.", "...#.", "...#.", "...#.", "...#.", "#..#.", ".##.."}},
-    {'k', {"#....", "#....", "#..#.", "#.#..", "##...", "#.#..", "#..#.", ".....", "....."}},
-    {'l', {".##..", "..#..", "..#..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
-    {'m', {".....", ".....", "##.#.", "#.#.#", "#.#.#", "#.#.#", "#.#.#", ".....", "....."}},
-    {'n', {".....", ".....", "####.", "#...#", "#...#", "#...#", "#...#", ".....", "....."}},
-    {'o', {".....", ".....", ".###.", "#...#", "#...#", "#...#", ".###.", ".....", "....."}},
-    {'p', {".....", ".....", "####.", "#...#", "#...#", "#...#", "####.", "#....", "#...."}},
-    {'q', {".....", ".....", ".####", "#...#", "#...#", "#...#", ".####", "....#", "....#"}},
-    {'r', {".....", ".....", "#.##.", "##..#", "#....", "#....", "#....", ".....", "....."}},
-    {'s', {".....", ".....", ".####", "#....", ".###.", "....#", "####.", ".....", "....."}},
-    {'t', {".#...", ".#...", "###..", ".#...", ".#...", ".#..#", "..##.", ".....", "....."}},
-    {'u', {".....", ".....", "#...#", "#...#", "#...#", "#..##", ".##.#", ".....", "....."}},
-    {'v', {".....", ".....", "#...#", "#...#", "#...#", ".#.#.", "..#..", ".....", "....."}},
-    {'w', {".....", ".....", "#...#", "#...#", "#.#.#", "#.#.#", ".#.#.", ".....", "....."}},
-    {'x', {".....", ".....", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", ".....", "....."}},
-    {'y', {".....", ".....", "#...#", "#...#", "#...#", "#...#", ".####", "....#", ".###."}},
-    {'z', {".....", ".....", "#####", "...#.", "..#..", ".#...", "#####", ".....", "....."}},
-    {'0', {".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###.", ".....", "....."}},
-    {'1', {"..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###.", ".....", "....."}},
-    {'2', {".###.", "#...#", "....#", "...#.", "..#..", ".#...", "#####", ".....", "....."}},
-    {'3', {"#####", "...#.", "..#..", "...#.", "....#", "#...#", ".###.", ".....", "....."}},
-    {'4', {"...#.", "..##.", ".#.#.", "#..#.", "#####", "...#.", "...#.", ".....", "....."}},
-    {'5', {"#####", "#....", "####.", "....#", "....#", "#...#", ".###.", ".....", "....."}},
-    {'6', {"..##.", ".#...", "#....", "####.", "#...#", "#...#", ".###.", ".....", "....."}},
-    {'7', {"#####", "....#", "...#.", "..#..", ".#...", ".#...", ".#...", ".....", "....."}},
-    {'8', {".###.", "#...#", "#...#", ".###.", "#...#", "#...#", ".###.", ".....", "....."}},
-    {'9', {".###.", "#...#", "#...#", ".####", "....#", "...#.", ".##..", ".....", "....."}},
-    {'-', {".....", ".....", ".....", ".###.", ".....", ".....", ".....", ".....", "....."}},
-    {'+', {".....", "..#..", "..#..", "#####", "..#..", "..#..", ".....", ".....", "....."}},
-    {'=', {".....", ".....", "#####", ".....", "#####", ".....", ".....", ".....", "....."}},
-    {'(', {"...#.", "..#..", ".#...", ".#...", ".#...", "..#..", "...#.", ".....", "....."}},
-    {')', {".#...", "..#..", "...#.", "...#.", "...#.", "..#..", ".#...", ".....", "....."}},
-    {'.', {".....", ".....", ".....", ".....", ".....", ".##..", ".##..", ".....", "....."}},
-    {',', {".....", ".....", ".....", ".....", ".....", ".....", ".##..", "..#..", ".#..."}},
-    {':', {".....", ".##..", ".##..", ".....", ".##..", ".##..", ".....", ".....", "....."}},
-    {'/', {"....#", "....#", "...#.", "..#..", ".#...", "#....", "#....", ".....", "....."}},
-    {'%', {"##..#", "##..#", "...#.", "..#..", ".#...", "#..##", "#..##", ".....", "....."}},
-    {'\'', {"..#..", "..#..", ".#...", ".....", ".....", ".....", ".....", ".....", "....."}},
-};
-// clang-format on
-
-// Characters without a glyph: a hollow box, so a missing glyph is visible, not silent.
-const Glyph kMissingGlyph{'?', {"#####", "#...#", "#...#", "#...#", "#...#", "#...#", "#####", ".....", "....."}};
-
-const Glyph &glyphFor(char c) {
-    for (const Glyph &g : kGlyphs)
-        if (g.c == c) return g;
-    return kMissingGlyph;
-}
-
-/// Width in pixels of `text` at scale `s` (no trailing gap).
-int textWidth(const std::string &text, int s) {
-    return text.empty() ? 0 : (int(text.size()) * kAdvance - 1) * s;
-}
-
-/// Draws `text` with its top-left corner at (x, y), every font pixel an s x s block,
-/// only in columns [clipX0, clipX1).
-void drawText(renderer::Image &image, const std::string &text, int x, int y, int s,
-              const std::array<float, 3> &colour, int clipX0, int clipX1) {
-    for (size_t i = 0; i < text.size(); ++i) {
-        const Glyph &g = glyphFor(text[i]);
-        const int gx = x + int(i) * kAdvance * s;
-        for (int row = 0; row < kGlyphH; ++row)
-            for (int col = 0; col < kGlyphW; ++col) {
-                if (g.rows[size_t(row)][col] != '#') continue;
-                for (int dy = 0; dy < s; ++dy)
-                    for (int dx = 0; dx < s; ++dx) {
-                        const int px = gx + col * s + dx, py = y + row * s + dy;
-                        if (px < std::max(0, clipX0) || px >= std::min(image.width, clipX1) || py < 0 ||
-                            py >= image.height)
-                            continue;
-                        for (int c = 0; c < 3; ++c) image.at(px, py, c) = colour[size_t(c)];
-                    }
-            }
-    }
-}
 
 // --- options and panels -------------------------------------------------------
 
@@ -204,57 +80,13 @@ std::vector<std::string> splitList(const std::string &text) {
 
 std::string countText(size_t n) { return std::to_string(n) + (n == 1 ? " singularity" : " singularities"); }
 
-/// Cancels first-order opposite-sign pairs, the closest (Euclidean) first, until the
-/// field has at most `target` singularities or `maxPairs` pairs are gone. A pair the
-/// editor cannot cancel (another singularity in the way, both on the boundary) is
-/// skipped. Returns the number of pairs cancelled.
-int cancelClosestPairs(const field::TangentFrames &frames, field::RosyField &rosyField, size_t target,
-                       int maxPairs) {
-    int cancelled = 0;
-    std::set<std::pair<int, int>> failed; // face pairs that could not be cancelled
-    for (;;) {
-        const std::vector<field::Singularity> list = field::findSingularities(frames, rosyField).singularities;
-        if (list.size() <= target || cancelled >= maxPairs) break;
-        struct Candidate {
-            double distance;
-            int a, b;
-        };
-        std::vector<Candidate> candidates;
-        for (size_t i = 0; i < list.size(); ++i) {
-            if (list[i].indexNumerator != 1) continue;
-            for (size_t j = 0; j < list.size(); ++j) {
-                if (list[j].indexNumerator != -1) continue;
-                if (failed.count({list[i].face, list[j].face})) continue;
-                candidates.push_back({(list[i].position - list[j].position).norm(), int(i), int(j)});
-            }
-        }
-        if (candidates.empty()) break;
-        // Nearest first; ids break ties so the order never depends on the sort.
-        std::sort(candidates.begin(), candidates.end(), [](const Candidate &x, const Candidate &y) {
-            return std::tie(x.distance, x.a, x.b) < std::tie(y.distance, y.a, y.b);
-        });
-        bool done = false;
-        for (const Candidate &c : candidates) {
-            try {
-                field::cancelPair(frames, rosyField, c.a, c.b);
-                ++cancelled;
-                done = true;
-                break;
-            } catch (const InputError &) {
-                failed.insert({list[size_t(c.a)].face, list[size_t(c.b)].face});
-                if (failed.size() > 64) break; // the rest of the field is crowded; stop trying
-            }
-        }
-        if (!done) break;
-    }
-    return cancelled;
-}
-
 void runCompare(const CompareOptions &opt) {
     const auto start = std::chrono::steady_clock::now();
-    std::optional<tbb::global_control> threadLimit;
-    if (opt.threadsGiven && opt.common.threads > 0)
-        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
+    // --threads beats the scene's `threads` (0 = all cores); the limit is set once
+    // the scene is read, and until then only --threads applies.
+    const std::optional<int> threads = opt.threadsGiven ? std::optional<int>(opt.common.threads) : std::nullopt;
+    std::optional<tbb::global_control> flagLimit;
+    if (threads && *threads > 0) flagLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(*threads));
     setProgressEnabled(!opt.common.quiet);
     Timings timings;
 
@@ -309,9 +141,7 @@ void runCompare(const CompareOptions &opt) {
 
     scenes::SceneDesc desc =
         timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides); });
-    // The scene's `threads` when --threads was not given (0 = all cores).
-    if (!opt.threadsGiven && desc.threads.value > 0)
-        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(desc.threads.value));
+    const scenes::ThreadLimit threadLimit(desc, threads);
     checkWritable(opt.outputPath);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
     if (!opt.reportPath.empty()) {
@@ -320,8 +150,14 @@ void runCompare(const CompareOptions &opt) {
     }
     renderer::preloadImageIo(); // OpenImageIO maps while the fields are built (renderer/image_io.h)
 
-    scenes::Scene scene = timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
-    const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });
+    scenes::PipelineOptions pipeline;
+    pipeline.load = field::LoadOptions{opt.common.maxFaces};
+    pipeline.threads = threads;
+    scenes::StageTimings loadTimings;
+    const scenes::LoadedScene loaded = scenes::loadScene(desc, pipeline, &loadTimings);
+    for (const auto &[stage, ms] : loadTimings) timings.add(stage, ms);
+    const scenes::Scene &scene = *loaded.scene;
+    const field::TangentFrames &frames = *loaded.frames;
     const field::FieldSpec &spec = desc.field.spec;
     const char letters[] = "abcdefgh";
 
@@ -329,26 +165,28 @@ void runCompare(const CompareOptions &opt) {
     timings.time("fields", [&] {
         if (!symmetries.empty()) {
             for (size_t k = 0; k < symmetries.size(); ++k) {
-                field::FieldSpec s = spec;
-                s.nSym = symmetries[k];
-                Panel panel;
-                panel.field = field::buildField(frames, s).field;
+                scenes::PipelineOptions panelOptions = pipeline;
+                panelOptions.nSym = symmetries[k];
                 // The scene's edits name singularities of its own field: only that N gets them.
-                std::string edited;
-                if (s.nSym == spec.nSym && !desc.field.edits.empty()) {
-                    scenes::applyFieldEdits(frames, panel.field, desc.field.edits);
-                    edited = ", edited";
-                }
-                panel.singularities = field::findSingularities(frames, panel.field);
-                panel.label = std::string("(") + letters[k] + ") " + std::to_string(s.nSym) + "-RoSy" + edited + ": " +
+                panelOptions.applyEdits = symmetries[k] == spec.nSym;
+                scenes::SceneFieldResult built = scenes::buildSceneField(loaded, desc.field, panelOptions);
+                Panel panel;
+                panel.field = std::move(built.field.field);
+                panel.singularities = std::move(built.singularities);
+                const std::string edited = built.edits.empty() ? "" : ", edited";
+                panel.label = std::string("(") + letters[k] + ") " + std::to_string(symmetries[k]) + "-RoSy" + edited + ": " +
                               countText(panel.singularities.singularities.size());
                 panels.push_back(std::move(panel));
             }
             return;
         }
-        const field::RosyField base = field::buildField(frames, spec).field;
+        // The scene's field as built; each variant starts from a copy of it.
+        scenes::PipelineOptions baseOptions = pipeline;
+        baseOptions.applyEdits = false;
+        const scenes::SceneFieldResult built = scenes::buildSceneField(loaded, desc.field, baseOptions);
+        const field::RosyField &base = built.field.field;
         const std::string name = std::to_string(spec.nSym) + "-RoSy";
-        const size_t baseCount = field::findSingularities(frames, base).singularities.size();
+        const size_t baseCount = built.singularities.singularities.size();
         // The smoothed field first: an automatic edit aims at its singularity count.
         std::optional<Panel> smoothed;
         if (std::find(variants.begin(), variants.end(), "smoothed") != variants.end()) {
@@ -363,7 +201,7 @@ void runCompare(const CompareOptions &opt) {
             std::string what;
             if (variants[k] == "original") {
                 panel.field = base;
-                panel.singularities = field::findSingularities(frames, panel.field);
+                panel.singularities = built.singularities;
                 what = "";
             } else if (variants[k] == "smoothed") {
                 panel = *smoothed;
@@ -371,7 +209,7 @@ void runCompare(const CompareOptions &opt) {
             } else {
                 panel.field = base;
                 if (!desc.field.edits.empty()) {
-                    scenes::applyFieldEdits(frames, panel.field, desc.field.edits);
+                    field::applyFieldEdits(frames, panel.field, desc.field.edits);
                     what = ", " + std::to_string(desc.field.edits.size()) + " edits";
                 } else {
                     // No edits in the scene: cancel the closest pairs, as many as smoothing
@@ -384,7 +222,7 @@ void runCompare(const CompareOptions &opt) {
                         target = std::min(goal, baseCount);
                         maxPairs = int(baseCount);
                     }
-                    const int pairs = cancelClosestPairs(frames, panel.field, target, maxPairs);
+                    const int pairs = field::cancelClosestPairs(frames, panel.field, target, maxPairs);
                     what = ", " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") + " cancelled";
                 }
                 panel.singularities = field::findSingularities(frames, panel.field);
@@ -411,8 +249,7 @@ void runCompare(const CompareOptions &opt) {
                                                                 seps, scene.camera, fo));
                 continue;
             }
-            renderer::Illustration il = renderer::renderIllustration(
-                scenes::illustrationInput(scene, frames, panel.field, panel.singularities, *rayScene));
+            renderer::Illustration il = scenes::drawHatching(loaded, panel.field, panel.singularities, *rayScene);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.
             panel.seamFraction = renderer::inspectInk(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;
@@ -432,18 +269,18 @@ void runCompare(const CompareOptions &opt) {
     // a label still too wide breaks after its ':' (field, then count), and a line
     // still too wide is clipped at the panel's edges.
     int scale = std::max(1, int(std::lround(std::min(w, h) * 0.025 / 7.0)));
-    while (scale > 1 && textWidth(std::string(longest, 'x'), scale) > w) --scale;
+    while (scale > 1 && renderer::textWidthPx(std::string(longest, 'x'), scale) > w) --scale;
     std::vector<std::vector<std::string>> labelLines;
     size_t maxLines = 1;
     for (const Panel &p : panels) {
         std::vector<std::string> lines{p.label};
         const size_t colon = p.label.rfind(": ");
-        if (textWidth(p.label, scale) > w && colon != std::string::npos)
+        if (renderer::textWidthPx(p.label, scale) > w && colon != std::string::npos)
             lines = {p.label.substr(0, colon + 1), p.label.substr(colon + 2)};
         maxLines = std::max(maxLines, lines.size());
         labelLines.push_back(lines);
     }
-    const int lineHeight = (kGlyphH + 2) * scale;
+    const int lineHeight = (renderer::kFontGlyphRows + 2) * scale;
     const int band = int(maxLines) * lineHeight + gap;
     auto toFloat = [](const styles::Rgb &c) { return std::array<float, 3>{float(c[0]), float(c[1]), float(c[2])}; };
     const std::array<float, 3> paper = opt.fieldPictures ? std::array<float, 3>{1, 1, 1} : toFloat(scene.style.paper);
@@ -464,7 +301,7 @@ void runCompare(const CompareOptions &opt) {
             }
         const std::vector<std::string> &lines = labelLines[size_t(k)];
         for (size_t i = 0; i < lines.size(); ++i)
-            drawText(sheet, lines[i], x0 + std::max(0, (w - textWidth(lines[i], scale)) / 2),
+            renderer::drawText(sheet, lines[i], x0 + std::max(0, (w - renderer::textWidthPx(lines[i], scale)) / 2),
                      y0 + h + gap / 2 + int(i) * lineHeight, scale, ink, x0, x0 + w);
     }
     timings.time("write", [&] { renderer::writeImage(sheet, opt.outputPath); });

@@ -1,39 +1,30 @@
 /// \file cmd_render.cpp
-/// `rosyhatch render SCENE.yaml`: the Lambert preview of a scene.
+/// `rosyhatch render SCENE.yaml`: parses the flags, runs the scene through
+/// scenes::renderScene() (the pen-and-ink hatching, or a picture of the field for
+/// `picture.kind: field`) and writes PNG/TIFF/JPEG, the EXR with its channels, the
+/// layered SVG, the stroke report and the timings, all published together.
 
 #include "cli/commands.h"
 
 #include "core/atomic_file.h"
-#include "core/memory.h"
+#include "core/diagnostics.h"
 #include "core/error.h"
+#include "core/json.h"
+#include "core/memory.h"
 #include "core/progress.h"
-#include "renderer/embree_scene.h"
-#include "renderer/gbuffer.h"
+#include "renderer/illustration.h"
 #include "renderer/image.h"
 #include "renderer/image_io.h"
-#include "renderer/shading.h"
-#include "scenes/scene.h"
-#include "core/diagnostics.h"
-#include "core/json.h"
-#include "field/field_builder.h"
-#include "field/singularities.h"
-#include "renderer/illustration.h"
 #include "renderer/svg.h"
-#include "field/separatrices.h"
-#include "renderer/field_picture.h"
+#include "scenes/pipeline.h"
+#include "scenes/scene.h"
 
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
-#include <fstream>
-
-#include <tbb/global_control.h>
-
 #include <iostream>
-#include <memory>
 #include <optional>
-#include <tuple>
 #include <sstream>
 
 namespace rosy::cli {
@@ -46,11 +37,12 @@ struct RenderOptions {
     std::vector<std::string> outputPaths; ///< -o (repeatable); overrides the scene's output list
     bool threadsGiven = false; ///< --threads was on the command line (it beats the scene's `threads`)
     std::string svgPath;      ///< --svg: the layered SVG as well, from the same render
-    // SVG page overrides; unset: the style's `page` (scenes/README.md).
+    // SVG page overrides, shorthand for --set style.page.*; unset: the style's
+    // `page` (scenes/README.md).
     std::string paper;              ///< --paper: a4, a3, letter or WxH in mm
-    std::optional<double> marginMm; ///< --margin-mm
-    std::string orientation;        ///< --orientation: auto, portrait or landscape
-    std::optional<double> penMm;    ///< --pen-mm: every path this wide
+    std::optional<std::string> marginMm; ///< --margin-mm (YAML text, checked as style.page.margin_mm)
+    std::string orientation;             ///< --orientation: auto, portrait or landscape
+    std::optional<std::string> penMm;    ///< --pen-mm: every path this wide
     bool noPlotter = false;   ///< --no-plotter: keep strokes as traced (no merge, simplify, sort)
     std::vector<std::string> overrides; ///< --set KEY=VALUE, applied to the scene before validation
     CommonOptions common;
@@ -65,32 +57,6 @@ bool hasExtension(const std::string &path, const char *dotExt) {
 
 bool isExrPath(const std::string &path) { return hasExtension(path, ".exr"); }
 bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
-
-/// `picture: {kind: field}`: the field itself (streamlines, singularities and, if
-/// asked, separatrices) instead of the hatching, as in the paper's Figures 2-5.
-void renderFieldPictureScene(const scenes::SceneDesc &desc, const scenes::Scene &scene,
-                             const field::TangentFrames &frames, const field::RosyField &rosyField,
-                             const field::SingularityReport &singularities,
-                             const std::vector<std::string> &outputs, const std::string &svgPath,
-                             Timings &timings) {
-    if (!svgPath.empty())
-        throw InputError(desc.picture.kind.loc, "a field picture is an image, not strokes, so it has no SVG",
-                         "write .png/.exr/.tif/.jpg, or use picture.kind: hatching for an SVG");
-    std::vector<field::Separatrix> separatrices;
-    if (desc.picture.separatrices.value)
-        separatrices = timings.time("separatrices", [&] {
-            return field::traceSeparatrices(frames, rosyField, singularities.singularities);
-        });
-    renderer::FieldPictureOptions options;
-    if (desc.lightsGiven) options.lights = scene.lights;
-    const renderer::Image image = timings.time("field_picture", [&] {
-        return renderer::renderFieldPicture(scene.mesh, frames, rosyField, singularities, separatrices, scene.camera,
-                                            options);
-    });
-    timings.time("write", [&] {
-        for (const std::string &output : outputs) renderer::writeImage(image, output);
-    });
-}
 
 /// Throws IoError (exit 3) when the render's estimated memory exceeds what this
 /// process can still allocate; ROSY_MEMORY_CHECK=off skips the check.
@@ -112,11 +78,17 @@ void runRender(const RenderOptions &opt) {
     setProgressEnabled(!opt.common.quiet);
 
     Timings timings;
-    scenes::SceneDesc desc = timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides); });
-    // --threads beats the scene's `threads`; 0 = all cores.
-    const int threads = opt.threadsGiven ? opt.common.threads : desc.threads.value;
-    std::optional<tbb::global_control> threadLimit;
-    if (threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    // The page flags are shorthand for style.page keys, checked by the scene parser.
+    std::vector<scenes::FlagOverride> pageFlags;
+    if (!opt.paper.empty()) pageFlags.push_back({"--paper", "style.page.size", opt.paper});
+    if (opt.marginMm) pageFlags.push_back({"--margin-mm", "style.page.margin_mm", *opt.marginMm});
+    if (!opt.orientation.empty()) pageFlags.push_back({"--orientation", "style.page.orientation", opt.orientation});
+    if (opt.penMm) pageFlags.push_back({"--pen-mm", "style.page.pen_width_mm", *opt.penMm});
+    scenes::SceneDesc desc =
+        timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides, pageFlags); });
+    // --threads beats the scene's `threads`; 0 = all cores. Held over the writes too.
+    const std::optional<int> threads = opt.threadsGiven ? std::optional<int>(opt.common.threads) : std::nullopt;
+    const scenes::ThreadLimit threadLimit(desc, threads);
     // Every file this render writes: the scene's `output` list, or every -o, plus --svg.
     std::vector<std::string> outputs;
     for (const auto &o : desc.outputs) outputs.push_back(o.value);
@@ -142,33 +114,10 @@ void runRender(const RenderOptions &opt) {
     // the command-line overrides.
     const std::string svgPath = svgPaths.empty() ? std::string() : svgPaths.front();
     renderer::SvgOptions svgOptions = renderer::svgOptionsFor(desc.style.style.page);
-    if (!svgPath.empty()) {
-        if (!opt.paper.empty())
-            std::tie(svgOptions.pageWidthMm, svgOptions.pageHeightMm) =
-                renderer::paperSize(opt.paper, FileLoc{"--paper"});
-        if (opt.marginMm) svgOptions.marginMm = *opt.marginMm;
-        if (!(svgOptions.marginMm >= 0) ||
-            2 * svgOptions.marginMm >= std::min(svgOptions.pageWidthMm, svgOptions.pageHeightMm))
-            throw InputError(FileLoc{opt.marginMm ? "--margin-mm" : "--paper"},
-                             "margin " + (std::ostringstream() << svgOptions.marginMm).str() +
-                                 " mm leaves no room on a " + (std::ostringstream() << svgOptions.pageWidthMm).str() +
-                                 "x" + (std::ostringstream() << svgOptions.pageHeightMm).str() + " mm page",
-                             "use a margin of at least 0 and less than half the paper's shorter side");
-        using O = styles::PageStyle::Orientation;
-        if (opt.orientation == "auto") svgOptions.orientation = O::Auto;
-        else if (opt.orientation == "portrait") svgOptions.orientation = O::Portrait;
-        else if (opt.orientation == "landscape") svgOptions.orientation = O::Landscape;
-        else if (!opt.orientation.empty())
-            throw InputError(FileLoc{"--orientation"}, "unknown orientation '" + opt.orientation + "'",
-                             "use auto, portrait or landscape");
-        if (opt.penMm) {
-            if (!(*opt.penMm >= 0 && *opt.penMm <= 10))
-                throw InputError(FileLoc{"--pen-mm"}, "pen width must be in [0, 10] mm",
-                                 "use a plotter pen's width such as 0.3, or 0 for the style's widths");
-            svgOptions.penWidthMm = *opt.penMm;
-        }
-        svgOptions.plotterPass = !opt.noPlotter;
-    }
+    svgOptions.plotterPass = !opt.noPlotter;
+    if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !svgPath.empty())
+        throw InputError(desc.picture.kind.loc, "a field picture is an image, not strokes, so it has no SVG",
+                         "write .png/.exr/.tif/.jpg, or use picture.kind: hatching for an SVG");
     if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !opt.reportPath.empty())
         throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
                          "drop --report, or set picture.kind: hatching");
@@ -188,26 +137,26 @@ void runRender(const RenderOptions &opt) {
 
     // Every file is published at the end, together, or none is (core/atomic_file.h).
     OutputBatch batch;
-    scenes::Scene scene =
-        timings.time("load", [&] { return scenes::buildScene(desc, field::LoadOptions{opt.common.maxFaces}); });
-    // Refuse, before the work, a render that cannot fit in the memory left
-    // (scenes::renderMemoryEstimate(); README, "Limits").
-    checkRenderFits(opt.scenePath, scene, std::any_of(rasterPaths.begin(), rasterPaths.end(), isExrPath));
-    // Image files go out through OpenImageIO, a module of ~260 shared libraries:
-    // map it on a background thread while the field is solved (renderer/image_io.h).
-    // Not before the mesh load: the mapping slowed the loader's page faults from 50
-    // to 100 ms, more than the load could hide. The SVG writer does not need it.
-    if (!rasterPaths.empty()) renderer::preloadImageIo();
-    const field::TangentFrames frames = timings.time("frames", [&] { return field::TangentFrames(scene.mesh); });
-    field::FieldResult fieldResult = timings.time("field", [&] {
-        field::FieldResult r = field::buildField(frames, desc.field.spec);
-        scenes::applyFieldEdits(frames, r.field, desc.field.edits);
-        return r;
-    });
-    const field::SingularityReport singularities =
-        timings.time("singularities", [&] { return field::findSingularities(frames, fieldResult.field); });
-    if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field) {
-        renderFieldPictureScene(desc, scene, frames, fieldResult.field, singularities, rasterPaths, svgPath, timings);
+    scenes::PipelineOptions pipeline;
+    pipeline.load = field::LoadOptions{opt.common.maxFaces};
+    pipeline.threads = threads;
+    pipeline.measureHatching = !opt.reportPath.empty(); // only the report reads it
+    pipeline.afterLoad = [&](scenes::Scene &scene) {
+        // Refuse, before the work, a render that cannot fit in the memory left
+        // (scenes::renderMemoryEstimate(); README, "Limits").
+        checkRenderFits(opt.scenePath, scene, std::any_of(rasterPaths.begin(), rasterPaths.end(), isExrPath));
+        // Image files go out through OpenImageIO, a module of ~260 shared libraries:
+        // map it on a background thread while the field is solved (renderer/image_io.h).
+        // Not before the mesh load: the mapping slowed the loader's page faults from 50
+        // to 100 ms, more than the load could hide. The SVG writer does not need it.
+        if (!rasterPaths.empty()) renderer::preloadImageIo();
+    };
+    const scenes::RenderResult result = scenes::renderScene(desc, pipeline);
+    for (const auto &[stage, ms] : result.timingsMs) timings.add(stage, ms);
+    if (result.fieldPicture) {
+        timings.time("write", [&] {
+            for (const std::string &o : rasterPaths) renderer::writeImage(*result.fieldPicture, o);
+        });
         if (!opt.common.timingsPath.empty())
             timings.write(opt.common.timingsPath,
                           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -215,13 +164,8 @@ void runRender(const RenderOptions &opt) {
         for (const std::string &o : outputs) std::cout << o << "\n";
         return;
     }
-    auto rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
-
-    renderer::IllustrationInput input =
-        scenes::illustrationInput(scene, frames, fieldResult.field, singularities, *rayScene);
-    input.measureHatching = !opt.reportPath.empty(); // only the report reads it
-    const renderer::Illustration il = renderer::renderIllustration(input);
-    for (const auto &[stage, ms] : il.timingsMs) timings.add(stage, ms);
+    const renderer::Illustration &il = *result.illustration;
+    const scenes::Scene &scene = *result.loaded.scene;
 
     std::optional<renderer::SvgReport> svgReport;
     timings.time("write", [&] {
@@ -254,8 +198,8 @@ void runRender(const RenderOptions &opt) {
         json.field("strokes_near_singularities", il.hatch.strokesNearSingularities);
         json.field("stubs", il.hatch.stubs);
         json.field("stub_fraction", il.hatch.stubFraction);
-        json.field("singularities", int(singularities.singularities.size()));
-        json.field("symmetry", fieldResult.field.nSym);
+        json.field("singularities", int(result.field.singularities.singularities.size()));
+        json.field("symmetry", result.field.field.field.nSym);
         if (svgReport) {
             json.field("penup_mm", svgReport->penUpMm);
             json.field("pendown_mm", svgReport->penDownMm);

@@ -3,6 +3,7 @@
 #include "core/input_file.h"
 #include "field/mesh_io.h"
 #include "field/primitives.h"
+#include "field/winding_number.h"
 #include "field/smoothing.h"
 #include "renderer/image.h"
 #include "renderer/svg.h"
@@ -616,7 +617,12 @@ void applyStyleText(const Parser &p, const YAML::Node &value, const std::string 
         try {
             std::tie(style.page.widthMm, style.page.heightMm) = renderer::paperSize(text, p.loc(value));
         } catch (const InputError &e) {
-            p.fail(value, what + ": " + e.message(), "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
+            // A value from a flag (--paper) is located at the flag, which already
+            // names the setting; a file's or --set's value names its key.
+            const std::string origin = p.loc(value).path;
+            const bool fromFlag = origin.rfind("--", 0) == 0 && origin.rfind("--set ", 0) != 0;
+            p.fail(value, (fromFlag ? "" : what + ": ") + e.message(),
+                   "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
         }
         return;
     }
@@ -1090,8 +1096,7 @@ void parsePicture(const Parser &p, const YAML::Node &node, PictureDesc &pd) {
 /// the override brings (value, new keys, new maps) is located at the override, so
 /// a bad value is reported as `--set KEY=VALUE: error: ...`. A list element is
 /// addressed by its 0-based position (`lights.0.intensity=0.5`).
-void applyOverride(Parser &p, YAML::Node &root, const std::string &text) {
-    const FileLoc where{"--set " + text};
+void applyOverride(Parser &p, YAML::Node &root, const std::string &text, const FileLoc &where) {
     const std::string shape = "write --set KEY=VALUE with a dotted key, e.g. --set field.symmetry=2 or "
                               "--set 'camera.resolution=[512, 512]'";
     const size_t eq = text.find('=');
@@ -1182,41 +1187,6 @@ void applyOverride(Parser &p, YAML::Node &root, const std::string &text) {
 }
 
 } // namespace
-
-const char *toString(FieldEditDesc::Op op) {
-    switch (op) {
-    case FieldEditDesc::Op::Cancel: return "cancel";
-    case FieldEditDesc::Op::Move: return "move";
-    case FieldEditDesc::Op::CancelNear: return "cancel_near";
-    }
-    return "?";
-}
-
-std::vector<AppliedEdit> applyFieldEdits(const field::TangentFrames &frames, field::RosyField &rosyField,
-                                         const std::vector<FieldEditDesc> &edits) {
-    std::vector<AppliedEdit> applied;
-    std::vector<field::Singularity> current = field::findSingularities(frames, rosyField).singularities;
-    for (const FieldEditDesc &e : edits) {
-        AppliedEdit rec;
-        rec.edit = e;
-        rec.before = current;
-        field::EditOptions options;
-        options.where = e.loc;
-        rec.a = e.a;
-        rec.b = e.b;
-        if (e.op == FieldEditDesc::Op::Move) {
-            rec.result = field::moveSingularity(frames, rosyField, e.a, e.p, options);
-        } else {
-            if (e.op == FieldEditDesc::Op::CancelNear)
-                std::tie(rec.a, rec.b) = field::nearestOppositePair(current, e.p, e.q, e.loc);
-            rec.result = field::cancelPair(frames, rosyField, rec.a, rec.b, options);
-        }
-        current = field::findSingularities(frames, rosyField).singularities;
-        rec.after = current;
-        applied.push_back(std::move(rec));
-    }
-    return applied;
-}
 
 std::vector<std::string> primitiveNames() {
     std::vector<std::string> names;
@@ -1323,17 +1293,20 @@ void parseOutputs(const Parser &p, const YAML::Node &value, std::vector<Located<
 
 } // namespace
 
-SceneDesc parseScene(const std::string &text, const std::string &path,
-                     const std::vector<std::string> &overrides) {
+SceneDesc parseScene(const std::string &text, const std::string &path, const std::vector<std::string> &overrides,
+                     const std::vector<FlagOverride> &flags) {
     Parser p(path);
     YAML::Node root = loadYaml(p, text);
-    if (!overrides.empty() && (!root || root.IsNull())) root = YAML::Node(YAML::NodeType::Map);
-    if (root.IsMap() && !overrides.empty()) {
-        for (const std::string &o : overrides) applyOverride(p, root, o);
+    const bool overridden = !overrides.empty() || !flags.empty();
+    if (overridden && (!root || root.IsNull())) root = YAML::Node(YAML::NodeType::Map);
+    if (root.IsMap() && overridden) {
+        // The --set list first, then the flags that stand for keys: a flag wins.
+        for (const std::string &o : overrides) applyOverride(p, root, o, FileLoc{"--set " + o});
+        for (const FlagOverride &f : flags) applyOverride(p, root, f.key + "=" + f.value, FileLoc{f.flag});
         // The file and every value together stay within the value budget.
         std::vector<YAML::Node> stack;
         long visited = 0;
-        const FileLoc where{"--set " + overrides.back()};
+        const FileLoc where = flags.empty() ? FileLoc{"--set " + overrides.back()} : FileLoc{flags.back().flag};
         checkYamlShape(p, root, stack, visited, &where);
     }
     SceneDesc desc;
@@ -1398,8 +1371,9 @@ SceneDesc parseScene(const std::string &text, const std::string &path,
     return desc;
 }
 
-SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides) {
-    return parseScene(readText(path, "scene file"), path, overrides);
+SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides,
+                         const std::vector<FlagOverride> &flags) {
+    return parseScene(readText(path, "scene file"), path, overrides, flags);
 }
 
 namespace {
@@ -1444,21 +1418,6 @@ void checkPrimitiveFaces(const MeshDesc &m, const field::LoadOptions &options) {
                          "lower its resolution parameters, or raise the limit with --max-faces");
 }
 
-/// Generalized winding number of the closed or open surface `mesh` around `p`
-/// (Jacobson et al. 2013): the sum of the signed solid angles of its triangles
-/// (Van Oosterom & Strackee) over 4 pi. About +-1 inside a closed mesh, 0 outside.
-double windingNumber(const field::Mesh &mesh, const Vec3 &p) {
-    double sum = 0;
-    for (const field::Face &f : mesh.faces()) {
-        const Vec3 a = mesh.position(f[0]) - p, b = mesh.position(f[1]) - p, c = mesh.position(f[2]) - p;
-        const double la = a.norm(), lb = b.norm(), lc = c.norm();
-        const double num = a.dot(b.cross(c));
-        const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-        sum += 2 * std::atan2(num, den);
-    }
-    return sum / (4 * M_PI);
-}
-
 /// A manual camera must see some of the mesh and must not stand inside it. The
 /// visibility test is conservative (the bounding sphere against the view
 /// frustum), so it never rejects a camera that sees something.
@@ -1486,7 +1445,7 @@ void checkManualCamera(const renderer::Camera &cam, const field::Mesh &mesh, con
                                     Parser::fmt(centre.z()) + "], radius " + Parser::fmt(radius) +
                                     ", lies outside the view)",
                          "point look_at at the mesh, or use auto: true");
-    if (std::abs(windingNumber(mesh, cam.position())) > 0.5)
+    if (std::abs(field::windingNumber(mesh, cam.position())) > 0.5)
         throw InputError(c.position.loc.line ? c.position.loc : c.loc,
                          "camera.position is inside the mesh, which hides its outside",
                          "move the camera outside the surface, or use auto: true");
@@ -1507,23 +1466,6 @@ field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transfor
     std::vector<Vec3> positions(mesh.positions());
     for (Vec3 &q : positions) q = L * q + transform.translate.value;
     return field::Mesh::fromTriangles(std::move(positions), mesh.faces(), mesh.name());
-}
-
-renderer::IllustrationInput illustrationInput(const Scene &scene, const field::TangentFrames &frames,
-                                              const field::RosyField &field,
-                                              const field::SingularityReport &singularities,
-                                              const renderer::RayScene &rays) {
-    renderer::IllustrationInput in;
-    in.mesh = &scene.mesh;
-    in.frames = &frames;
-    in.field = &field;
-    in.singularities = &singularities;
-    in.scene = &rays;
-    in.camera = &scene.camera;
-    in.lights = scene.lights;
-    in.shading = scene.shading;
-    in.style = scene.style;
-    return in;
 }
 
 long long primitiveFaceCount(const MeshDesc &m) {

@@ -5,7 +5,7 @@
 /// scenes/README.md. Only this module sees yaml-cpp.
 
 #include "core/error.h"
-#include "field/editing.h"
+#include "field/edits.h"
 #include "field/field_builder.h"
 #include "field/mesh.h"
 #include "field/mesh_io.h"
@@ -81,24 +81,11 @@ struct LightDesc {
     FileLoc loc;
 };
 
-/// One topological edit of the field (P&Z Sec. 5.2), applied in file order.
-/// Singularity ids refer to the list as it is just before this edit (ids are
-/// re-numbered after every edit, sorted by face id).
-struct FieldEditDesc {
-    enum class Op {
-        Cancel,     ///< cancel singularities `a` and `b`
-        Move,       ///< move singularity `a` to point `p`
-        CancelNear, ///< cancel the opposite-sign pair nearest to points `p` and `q`
-    };
-    Op op = Op::Cancel;
-    int a = -1, b = -1;
-    Vec3 p = Vec3::Zero(), q = Vec3::Zero(); ///< world units
-    /// Where it was asked for: the scene entry or the CLI flag ("--cancel #1").
-    FileLoc loc;
-};
-
-/// "cancel", "move" or "cancel_near".
-const char *toString(FieldEditDesc::Op op);
+/// One topological edit of the field (P&Z Sec. 5.2), applied in file order; the
+/// type lives in field/edits.h with the algorithm that applies it. Singularity ids
+/// refer to the list as it is just before the edit (ids are re-numbered after
+/// every edit, sorted by face id).
+using FieldEditDesc = field::FieldEdit;
 
 /// The scene's `field:` block: how to build the N-RoSy field and how to edit it.
 struct FieldDesc {
@@ -112,21 +99,10 @@ struct FieldDesc {
     FileLoc loc;
 };
 
-/// One applied edit, for reports.
-struct AppliedEdit {
-    FieldEditDesc edit;
-    int a = -1, b = -1;                     ///< the ids actually used (CancelNear resolves them)
-    field::EditResult result;
-    std::vector<field::Singularity> before; ///< singularities just before the edit
-    std::vector<field::Singularity> after;  ///< and just after
-};
-
-/// Applies `edits` in order to `rosyField` (on the mesh of `frames`), re-finding the
-/// singularities between edits. Shared by `rosyhatch field` and the renderer.
-/// \throws InputError at the edit's location (bad id, impossible edit); edits
-///   before the failing one stay applied, the failing one changes nothing.
-std::vector<AppliedEdit> applyFieldEdits(const field::TangentFrames &frames, field::RosyField &rosyField,
-                                         const std::vector<FieldEditDesc> &edits);
+/// One applied edit, for reports (field/edits.h).
+using AppliedEdit = field::AppliedEdit;
+/// Applies a scene's (or a command line's) edits in order (field/edits.h).
+using field::applyFieldEdits;
 
 /// The scene's `style:` block resolved to one Style. Values come, lowest priority
 /// first, from the Style defaults, the preset (if any) and the block's own keys.
@@ -221,22 +197,33 @@ struct SceneDesc {
     PictureDesc picture;
 };
 
+/// A command-line flag that is shorthand for one override: `rosyhatch render
+/// --paper a3` is `--set style.page.size=a3`. Errors in its value are located at
+/// the flag (`--paper: error: ...`).
+struct FlagOverride {
+    std::string flag;  ///< as typed, e.g. "--paper"
+    std::string key;   ///< dotted scene key, e.g. "style.page.size"
+    std::string value; ///< YAML text, e.g. "a3"
+};
+
 /// Reads and validates a scene file.
 /// \param overrides  command-line overrides `dotted.key=VALUE` (`--set`), applied in
 ///   order to the YAML tree before validation; VALUE is YAML (`2`, `[512, 512]`,
 ///   `{preset: sketch}`), missing maps are created, list entries are addressed by
 ///   0-based position (`lights.0.intensity=0.5`). Errors in an overridden value are
 ///   located at the override: `--set field.symmetry=0: error: ...`.
+/// \param flags  flag shorthands, applied after `overrides` (so a flag wins).
 /// \throws IoError if the file cannot be read.
 /// \throws InputError `FILE:LINE:COL: error: ...` for YAML syntax errors, unknown or
 ///   duplicate keys, wrong types, out-of-range values, a missing mesh file, a
 ///   malformed override.
-SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides = {});
+SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides = {},
+                         const std::vector<FlagOverride> &flags = {});
 
 /// Same as parseSceneFile() for text already in memory; `path` names it in messages
 /// and relative mesh paths are resolved against its folder.
 SceneDesc parseScene(const std::string &text, const std::string &path,
-                     const std::vector<std::string> &overrides = {});
+                     const std::vector<std::string> &overrides = {}, const std::vector<FlagOverride> &flags = {});
 
 /// The objects a render needs.
 struct Scene {
@@ -248,14 +235,6 @@ struct Scene {
     styles::Style style;
     std::string output;
 };
-
-/// The renderer's input for a built scene, its frames, hatch field, that field's
-/// singularities and the scene's ray-tracing structure (all borrowed: they must
-/// outlive the returned value). Hatching is measured (IllustrationInput::measureHatching).
-renderer::IllustrationInput illustrationInput(const Scene &scene, const field::TangentFrames &frames,
-                                              const field::RosyField &field,
-                                              const field::SingularityReport &singularities,
-                                              const renderer::RayScene &rays);
 
 /// Applies `transform` to every vertex of `mesh` (connectivity unchanged).
 field::Mesh transformMesh(const field::Mesh &mesh, const TransformDesc &transform);

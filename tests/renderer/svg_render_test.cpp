@@ -4,13 +4,11 @@
 // and the plotter pass's pen-down / pen-up figures on real strokes.
 
 #include "core/error.h"
-#include "field/field_builder.h"
-#include "field/singularities.h"
-#include "renderer/embree_scene.h"
 #include "renderer/illustration.h"
 #include "renderer/image.h"
 #include "renderer/plotter.h"
 #include "renderer/svg.h"
+#include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
 #include <OpenImageIO/imageio.h>
@@ -22,6 +20,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,21 +44,16 @@ style:
 
 std::string scenePath() { return std::string(ROSY_SOURCE_DIR) + "/scenes/svg_render_test.yaml"; }
 
-Illustration render(const scenes::SceneDesc &desc) {
-    scenes::Scene scene = scenes::buildScene(desc);
-    const field::TangentFrames frames(scene.mesh);
-    field::FieldResult fr = field::buildField(frames, desc.field.spec);
-    const field::SingularityReport sing = field::findSingularities(frames, fr.field);
-    const RayScene rays(scene.mesh);
-    IllustrationInput in = scenes::illustrationInput(scene, frames, fr.field, sing, rays);
-    return renderIllustration(in);
+Illustration render(const scenes::SceneDesc &desc, std::optional<int> threads = std::nullopt) {
+    scenes::PipelineOptions options;
+    options.threads = threads;
+    return std::move(*scenes::renderScene(desc, options).illustration);
 }
 
 /// The one-thread render, shared by the tests below.
 const Illustration &sharedRender() {
     static const std::unique_ptr<Illustration> il = [] {
-        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-        return std::make_unique<Illustration>(render(scenes::parseScene(kSceneText, scenePath())));
+        return std::make_unique<Illustration>(render(scenes::parseScene(kSceneText, scenePath()), 1));
     }();
     return *il;
 }

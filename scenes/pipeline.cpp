@@ -1,0 +1,115 @@
+#include "scenes/pipeline.h"
+
+#include "renderer/field_picture.h"
+
+#include <chrono>
+
+namespace rosy::scenes {
+
+namespace {
+
+/// Times one stage, records it in `timings` (when given) and tells options.onStage.
+template <typename F>
+auto timed(const std::string &stage, StageTimings *timings, const PipelineOptions &options, F &&work) {
+    const auto start = std::chrono::steady_clock::now();
+    auto result = work();
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (timings) timings->emplace_back(stage, ms);
+    if (options.onStage) options.onStage(stage, ms);
+    return result;
+}
+
+} // namespace
+
+ThreadLimit::ThreadLimit(const SceneDesc &desc, std::optional<int> threads) {
+    const int n = threads ? *threads : desc.threads.value;
+    if (n > 0) m_control.emplace(tbb::global_control::max_allowed_parallelism, size_t(n));
+}
+
+LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options, StageTimings *timings) {
+    LoadedScene loaded;
+    loaded.scene = timed("load", timings, options, [&] {
+        auto scene = std::make_unique<Scene>(buildScene(desc, options.load));
+        if (options.afterLoad) options.afterLoad(*scene);
+        return scene;
+    });
+    loaded.frames = timed("frames", timings, options,
+                          [&] { return std::make_unique<field::TangentFrames>(loaded.scene->mesh); });
+    return loaded;
+}
+
+SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fieldDesc,
+                                 const PipelineOptions &options, StageTimings *timings) {
+    SceneFieldResult out;
+    out.spec = fieldDesc.spec;
+    if (options.nSym > 0) out.spec.nSym = options.nSym;
+    out.field = timed("field", timings, options, [&] {
+        field::FieldResult r = field::buildField(*loaded.frames, out.spec);
+        if (options.applyEdits) out.edits = field::applyFieldEdits(*loaded.frames, r.field, fieldDesc.edits);
+        return r;
+    });
+    out.singularities = timed("singularities", timings, options,
+                              [&] { return field::findSingularities(*loaded.frames, out.field.field); });
+    return out;
+}
+
+SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options) {
+    const ThreadLimit limit(desc, options.threads);
+    SceneField out;
+    out.loaded = loadScene(desc, options, &out.timingsMs);
+    out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+    return out;
+}
+
+renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
+                                    const field::SingularityReport &singularities, const renderer::RayScene &rays,
+                                    bool measureHatching) {
+    const Scene &scene = *loaded.scene;
+    renderer::IllustrationInput in;
+    in.mesh = &scene.mesh;
+    in.frames = loaded.frames.get();
+    in.field = &rosyField;
+    in.singularities = &singularities;
+    in.scene = &rays;
+    in.camera = &scene.camera;
+    in.lights = scene.lights;
+    in.shading = scene.shading;
+    in.style = scene.style;
+    in.measureHatching = measureHatching;
+    return renderer::renderIllustration(in);
+}
+
+RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options) {
+    const ThreadLimit limit(desc, options.threads);
+    RenderResult out;
+    out.loaded = loadScene(desc, options, &out.timingsMs);
+    out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+    const field::TangentFrames &frames = *out.loaded.frames;
+    const field::RosyField &rosyField = out.field.field.field;
+    const field::SingularityReport &singularities = out.field.singularities;
+    if (desc.picture.kind.value == PictureDesc::Kind::Field) {
+        if (desc.picture.separatrices.value)
+            out.separatrices = timed("separatrices", &out.timingsMs, options, [&] {
+                return field::traceSeparatrices(frames, rosyField, singularities.singularities);
+            });
+        renderer::FieldPictureOptions pictureOptions;
+        // Without a `lights` key the picture keeps its own light rather than the
+        // default key light buildScene() adds for hatching.
+        if (desc.lightsGiven) pictureOptions.lights = out.loaded.scene->lights;
+        out.fieldPicture = timed("field_picture", &out.timingsMs, options, [&] {
+            return renderer::renderFieldPicture(out.loaded.scene->mesh, frames, rosyField, singularities,
+                                                out.separatrices, out.loaded.scene->camera, pictureOptions);
+        });
+        return out;
+    }
+    out.rays = timed("bvh", &out.timingsMs, options,
+                     [&] { return std::make_unique<renderer::RayScene>(out.loaded.scene->mesh); });
+    out.illustration = drawHatching(out.loaded, rosyField, singularities, *out.rays, options.measureHatching);
+    for (const auto &[stage, ms] : out.illustration->timingsMs) {
+        out.timingsMs.emplace_back(stage, ms);
+        if (options.onStage) options.onStage(stage, ms);
+    }
+    return out;
+}
+
+} // namespace rosy::scenes

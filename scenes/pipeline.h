@@ -1,0 +1,140 @@
+#pragma once
+/// \file pipeline.h
+/// The one path from a parsed scene to a drawing, called by every command, test
+/// and benchmark so that they all run the product users run:
+///
+///   SceneDesc ─ buildScene ─▶ Scene ─▶ TangentFrames ─▶ field (buildField, the
+///   scene's edits) ─▶ singularities ─▶ RayScene ─▶ Illustration (hatching)
+///                                                └──▶ field picture (picture.kind: field)
+///
+/// renderScene() runs all of it; buildSceneField() stops after the singularities.
+/// The pieces loadScene(), buildSceneField(LoadedScene...) and drawHatching() are
+/// public for callers that draw several fields of one scene (`rosyhatch compare`).
+/// Stages pick their behaviour through PipelineOptions, never by being skipped in
+/// a copy of the chain. Nothing here writes files: the results are plain values.
+
+#include "field/edits.h"
+#include "field/field_builder.h"
+#include "field/frames.h"
+#include "field/separatrices.h"
+#include "field/singularities.h"
+#include "renderer/embree_scene.h"
+#include "renderer/illustration.h"
+#include "renderer/image.h"
+#include "scenes/scene.h"
+
+#include <tbb/global_control.h>
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rosy::scenes {
+
+/// Wall-clock milliseconds per stage, in the order the stages ran.
+using StageTimings = std::vector<std::pair<std::string, double>>;
+
+/// What the callers of the pipeline choose. The defaults run the scene as
+/// `rosyhatch render` does.
+struct PipelineOptions {
+    /// Mesh loading limits (--max-faces).
+    field::LoadOptions load;
+    /// Worker threads during the call: unset = the scene's `threads`; 0 = all
+    /// cores. The drawing is the same for any value.
+    std::optional<int> threads;
+    /// Replaces the scene's field symmetry order N when > 0.
+    int nSym = 0;
+    /// Applies the scene's `field.edits`. Their ids name singularities of the
+    /// scene's own field, so callers that change N usually turn them off.
+    bool applyEdits = true;
+    /// Runs right after the scene is built, before any field work: may change the
+    /// scene (a benchmark subdivides the mesh) or refuse it by throwing (the CLI's
+    /// memory check). Counted in the "load" stage's time.
+    std::function<void(Scene &)> afterLoad;
+    /// Called as each stage ends with its name and milliseconds (progress, live timings).
+    std::function<void(const std::string &stage, double ms)> onStage;
+    /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
+    /// singularities; about a sixth of the hatching stage). Only reports read it.
+    bool measureHatching = true;
+};
+
+/// Limits oneTBB's worker threads while it lives: `threads` when set, else the
+/// scene's `threads`; 0 (either way) leaves all cores.
+class ThreadLimit {
+public:
+    ThreadLimit(const SceneDesc &desc, std::optional<int> threads);
+
+private:
+    std::optional<tbb::global_control> m_control;
+};
+
+/// A built scene and its tangent frames: what every field on the scene shares.
+/// Both live on the heap because the frames, fields and ray scenes made from them
+/// keep pointers to the mesh; moving a LoadedScene keeps those valid.
+struct LoadedScene {
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<field::TangentFrames> frames; ///< of scene->mesh
+};
+
+/// One field on a loaded scene, as drawn.
+struct SceneFieldResult {
+    field::FieldSpec spec;                ///< the scene's, with PipelineOptions::nSym applied
+    field::FieldResult field;             ///< field.field: after the edits
+    std::vector<field::AppliedEdit> edits; ///< the scene's edits as applied (empty when off)
+    field::SingularityReport singularities; ///< of field.field
+};
+
+/// The field stage of a scene on its own: the loaded scene and its field.
+struct SceneField {
+    LoadedScene loaded;
+    SceneFieldResult field;
+    /// load, frames, field (build and edits), singularities.
+    StageTimings timingsMs;
+};
+
+/// Everything renderScene() made. Exactly one of `illustration` (picture.kind:
+/// hatching) and `fieldPicture` (picture.kind: field) is set.
+struct RenderResult : SceneField {
+    std::unique_ptr<renderer::RayScene> rays;           ///< hatching only
+    std::optional<renderer::Illustration> illustration; ///< hatching: strokes, layers, composite
+    std::vector<field::Separatrix> separatrices;        ///< field pictures with `separatrices: true`
+    std::optional<renderer::Image> fieldPicture;        ///< the field picture (linear RGB + alpha)
+    // timingsMs continues with bvh and the illustration's stages (gbuffer, tone,
+    // screen_field, hatching, contours, raster), or separatrices and field_picture.
+};
+
+/// Builds the scene's objects (buildScene()), runs options.afterLoad, then the
+/// tangent frames. Stages "load" and "frames" go to `timings` when given.
+/// \throws what buildScene() and options.afterLoad throw.
+LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options = {}, StageTimings *timings = nullptr);
+
+/// The field of `fieldDesc` (symmetry replaced by options.nSym when > 0) on a
+/// loaded scene: buildField(), the edits when options.applyEdits, and the
+/// singularities of the result. Stages "field" and "singularities".
+/// \throws InputError at an edit's location when it cannot be applied.
+SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fieldDesc,
+                                 const PipelineOptions &options = {}, StageTimings *timings = nullptr);
+
+/// The field-only pipeline: loadScene() then buildSceneField() under the thread
+/// limit of options.threads / the scene's `threads`.
+SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options = {});
+
+/// The pen-and-ink drawing of `rosyField` (with its singularities) on a loaded
+/// scene through the scene's camera, lights, shading and style; `rays` must be
+/// built from loaded.scene->mesh.
+renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
+                                    const field::SingularityReport &singularities, const renderer::RayScene &rays,
+                                    bool measureHatching = true);
+
+/// The whole pipeline: buildSceneField(desc), then the scene's picture — the
+/// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the
+/// field picture (separatrices when the scene asks for them; the scene's lights
+/// only when it has a `lights` key, else the picture's own light).
+/// \throws IoError / InputError from loading, editing and options.afterLoad;
+///   std::runtime_error if Embree fails.
+RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options = {});
+
+} // namespace rosy::scenes
