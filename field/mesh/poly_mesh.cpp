@@ -4,6 +4,7 @@
 #include "core/error.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 
 #include <fmt/format.h>
 
@@ -87,17 +88,28 @@ void writePolyMesh(const std::string &path, const PolyMesh &mesh, const MeshExpo
                                      mesh.n_vertices()),
                          "give one direction per vertex");
     // The writers read normals from the mesh itself, so directions go into a copy.
-    PolyMesh withNormals;
+    PolyMesh copy;
     const PolyMesh *source = &mesh;
     OpenMesh::IO::Options flags = OpenMesh::IO::Options::Default;
     if (directions) {
-        withNormals = mesh;
-        withNormals.request_vertex_normals();
-        for (const PolyMesh::VertexHandle vh : withNormals.vertices())
-            withNormals.set_normal(vh, toOpenMesh(options.vertexDirections[size_t(vh.idx())]));
-        source = &withNormals;
+        copy = mesh;
+        copy.request_vertex_normals();
+        for (const PolyMesh::VertexHandle vh : copy.vertices())
+            copy.set_normal(vh, toOpenMesh(options.vertexDirections[size_t(vh.idx())]));
+        source = &copy;
         flags += OpenMesh::IO::Options::VertexNormal;
     }
+    // OpenMesh 9's STL writer skips every face that is not a triangle yet counts it
+    // in the header, leaving a file no reader accepts: triangulate first.
+    if (format == "stl" && std::any_of(mesh.faces_begin(), mesh.faces_end(),
+                                       [&](PolyMesh::FaceHandle fh) { return mesh.valence(fh) != 3; })) {
+        copy = mesh;
+        copy.triangulate();
+        source = &copy;
+    }
+    // OpenMesh logs every file it writes ("[OBJWriter] : write file") on omlog;
+    // our commands print only what they were asked to. Its errors (omerr) stay on.
+    omlog().disable();
     if (format == "ply" || format == "stl") flags += OpenMesh::IO::Options::Binary;
     if (format == "ply") flags += OpenMesh::IO::Options::LSB;
     writeAtomically(path, [&](const std::string &tmpPath) {

@@ -64,7 +64,7 @@ bool isMeshExportPath(const std::string &path);
 /// current OutputBatch). OBJ and OFF are ASCII with 9 significant digits (float
 /// coordinates round-trip exactly); PLY is binary little-endian and STL binary,
 /// the compact forms for scan-sized meshes. STL has only triangles: polygons are
-/// fan-triangulated by OpenMesh's writer.
+/// fan-triangulated first (OpenMesh's STL writer would skip them).
 /// \throws InputError (path) for an unknown extension, for vertexDirections with
 ///   STL or of the wrong size. \throws IoError (path) if writing fails.
 void writePolyMesh(const std::string &path, const PolyMesh &mesh, const MeshExportOptions &options = {});
