@@ -2,7 +2,15 @@
 /// \file scene.h
 /// The scene file: YAML -> SceneDesc (plain data, every value tagged with where it
 /// came from) -> Scene (loaded mesh, camera, lights). The format is documented in
-/// scenes/README.md. Only this module sees yaml-cpp.
+/// scenes/README.md. Only this module sees yaml-cpp. The stages live in files of
+/// their own, after pbrt-v4's seams:
+///   yaml_reader.*    YAML with source locations, typed reads, size limits (internal)
+///   overrides.*      --set KEY=VALUE and flag shorthands on the YAML tree (internal)
+///   scene_parser.cpp YAML -> SceneDesc (parseScene, parseSceneFile)
+///   style_presets.*  the `style:` block, its keys and the preset files
+///   scene_builder.cpp SceneDesc -> Scene (buildScene: meshes, primitives, camera, lights)
+///   suggest.*        "did you mean" for unknown names
+///   pipeline.*       Scene -> field -> drawing (renderScene, buildSceneField)
 
 #include "core/error.h"
 #include "field/edits.h"
@@ -10,8 +18,9 @@
 #include "field/mesh.h"
 #include "field/mesh_io.h"
 #include "renderer/camera.h"
-#include "renderer/illustration.h"
 #include "renderer/shading.h"
+#include "scenes/style_presets.h"
+#include "scenes/suggest.h"
 #include "styles/style.h"
 
 #include <array>
@@ -118,34 +127,6 @@ struct StyleDesc {
     std::map<std::string, FileLoc> setAt;
     FileLoc loc;
 };
-
-/// One style preset found on disk.
-struct StylePreset {
-    std::string name;        ///< file stem, used as `preset: NAME`
-    std::string description; ///< the file's one-line `description`
-    std::string path;        ///< the file
-};
-
-/// Folders searched for `preset: NAME`, in order: $ROSY_STYLES_PATH (colon-separated),
-/// the source tree's styles/presets (fixed at build time), and
-/// <executable>/../share/rosyhatch/styles. Folders that do not exist are left out.
-std::vector<std::string> styleSearchDirs();
-
-/// Every preset (`*.yaml` in styleSearchDirs()), sorted by name; a name found in
-/// several folders is taken from the first. Each file is parsed and validated.
-/// 	hrows InputError `FILE:LINE:COL` for an invalid preset file; IoError if unreadable.
-std::vector<StylePreset> listStylePresets();
-
-/// Reads and validates one preset file (the keys of a `style:` block except
-/// `preset`, plus a required one-line `description`) on top of the Style defaults.
-/// \param setAt  if given, receives the dotted key -> location of each value set.
-/// 	hrows IoError if the file cannot be read; InputError `FILE:LINE:COL` for bad content.
-styles::Style loadStylePreset(const std::string &path, std::string *description = nullptr,
-                              std::map<std::string, FileLoc> *setAt = nullptr);
-
-/// Every dotted key a `style:` block or preset file accepts (besides `preset` and
-/// `description`), e.g. "ambient", "hatch.taper", "contour.width_px".
-std::vector<std::string> styleKeys();
 
 /// What `rosyhatch render` draws: the pen-and-ink hatching (the default) or a
 /// picture of the field itself (streamlines, singularity dots, separatrices) as in
@@ -266,9 +247,5 @@ uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput);
 
 /// Names the primitives a scene may use, for messages and documentation.
 std::vector<std::string> primitiveNames();
-
-/// Edit distance between two strings (insertions, deletions, substitutions), for
-/// did-you-mean suggestions.
-int editDistance(const std::string &a, const std::string &b);
 
 } // namespace rosy::scenes
