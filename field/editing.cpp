@@ -4,6 +4,8 @@
 #include "field/laplacian.h"
 #include "field/sparse_solver.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
@@ -309,7 +311,7 @@ EditResult moveSingularity(const TangentFrames &frames, RosyField &field, int s,
     pt << "(" << target.x() << ", " << target.y() << ", " << target.z() << ")";
     if (snap.face < 0 || snap.distance > 0.05 * diag)
         throw InputError(where, "cannot move " + name + ": target " + pt.str() + " is " +
-                                    std::to_string(snap.distance) + " units from the surface",
+                                    fmt::format("{:g}", snap.distance) + " units from the surface",
                          "give a point on the surface");
     const int targetFace = snap.face;
     EditResult result;

@@ -1,7 +1,8 @@
 #pragma once
 /// \file image.h
-/// Our image type and the one way images leave the program. OpenImageIO stays
-/// inside image.cpp.
+/// Our image type and the one way images leave the program: writeImage(). The
+/// files are written by OpenImageIO inside the run-time module of image_io.h
+/// (oiio_module.cpp), so nothing outside that module sees OpenImageIO.
 
 #include <string>
 #include <utility>

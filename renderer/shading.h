@@ -1,7 +1,8 @@
 #pragma once
 /// \file shading.h
-/// Lambert tone for the preview image: how much light reaches each visible
-/// point, later also the input the hatching density follows.
+/// Tone: how much light reaches each visible point (Lambert with cast shadows and
+/// optional ambient occlusion), the input the hatching density follows
+/// (illustration.h); the lights a scene and a field picture use.
 
 #include "field/mesh.h"
 #include "renderer/camera.h"

@@ -1,8 +1,8 @@
 #pragma once
 /// \file strokes.h
 /// The stroke list: the one resolution-independent description of a drawing.
-/// The rasterizer (raster.h) draws it into images; the vector writer (later)
-/// writes the same list as SVG paths. Coordinates are raster pixels of the
+/// The rasterizer (raster.h) draws it into images; the SVG writer (svg.h, after
+/// the plotter pass of plotter.h) writes the same list as paths. Coordinates are raster pixels of the
 /// render resolution (x right, y down, pixel centres at +0.5); a consumer at
 /// another resolution or in millimetres scales them uniformly.
 

@@ -5,6 +5,8 @@
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/eventhandler.h>
 
+#include <sstream>
+
 namespace rosy::scenes::detail {
 
 styles::Rgb colour(const Parser &p, const YAML::Node &node, const std::string &what) {

@@ -13,12 +13,12 @@
 #include "styles/style.h"
 
 #include <Eigen/Core>
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -150,11 +150,9 @@ public:
                     number(node[2], what + "[2]", lo, hi));
     }
 
-    static std::string fmt(double v) {
-        std::ostringstream os;
-        os << v;
-        return os.str();
-    }
+    /// A number for messages: six significant digits (printf's %g), so 1e-9 reads
+    /// 1e-09 rather than std::to_string's 0.000000.
+    static std::string fmt(double v) { return ::fmt::format("{:g}", v); }
 
     const std::string &path() const { return m_path; }
     /// Nodes located at --set overrides so far.

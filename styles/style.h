@@ -1,8 +1,11 @@
 #pragma once
 /// \file style.h
-/// The look of a rendering. For now only what the Lambert preview needs: the
-/// colours of paper and ink and how dark the unlit side may get. The pen-and-ink
-/// parameters (stroke widths, spacing, taper) join this struct later.
+/// The look of a drawing, as plain values with defaults (the `fine-pen` preset):
+/// paper and ink colours and the tone floor (Style), how tone becomes hatching
+/// (HatchStyle: widths, spacing range, tone curve, taper, jitter), the contour
+/// lines (ContourStyle) and the SVG page (PageStyle). scenes/ reads them from a
+/// scene's `style:` block and the presets in styles/presets/; keys and ranges
+/// are in scenes/README.md.
 
 #include <array>
 #include <cstdint>

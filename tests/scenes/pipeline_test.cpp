@@ -1,0 +1,170 @@
+// scenes::renderScene() / buildSceneField(), the one pipeline every command, test
+// and benchmark runs, and field::cancelClosestPairs(), compare's edit search.
+// Expected values come from the scene text (sizes, stage order, edits asked for)
+// and from Poincaré–Hopf (index sum = Euler characteristic), not from the code.
+
+#include "field/edits.h"
+#include "field/field_builder.h"
+#include "field/frames.h"
+#include "field/primitives.h"
+#include "field/singularities.h"
+#include "scenes/pipeline.h"
+#include "scenes/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace rosy;
+
+namespace {
+
+const std::string kScenePath = std::string(ROSY_SOURCE_DIR) + "/scenes/pipeline_test.yaml";
+
+/// A small torus (χ = 0) drawn at 96 x 64.
+const char *kTorus = R"(
+mesh: {primitive: torus, nu: 48, nv: 24}
+camera: {auto: true, resolution: [96, 64]}
+)";
+
+/// A flat disk (χ = 1) with a designed +1/4, −1/4 pair and an edit cancelling it.
+const char *kDiskWithEdit = R"(
+mesh: {primitive: disk, rings: 12}
+camera: {auto: true, direction: [0, 0, 1], resolution: [64, 64]}
+field:
+  source: design
+  weights: cotan
+  elements: [{position: [-0.3, 0.05, 0], order: 1}, {position: [0.3, -0.05, 0], order: -1}]
+  edits: [{cancel: [0, 1]}]
+)";
+
+std::vector<std::string> stageNames(const scenes::StageTimings &timings) {
+    std::vector<std::string> names;
+    for (const auto &[stage, ms] : timings) names.push_back(stage);
+    return names;
+}
+
+} // namespace
+
+TEST(RenderScene, HatchingSceneGivesAnIllustrationAtTheCameraResolution) {
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    std::vector<std::string> reported;
+    scenes::PipelineOptions options;
+    options.onStage = [&](const std::string &stage, double ms) {
+        EXPECT_GE(ms, 0.0) << stage;
+        reported.push_back(stage);
+    };
+    const scenes::RenderResult r = scenes::renderScene(desc, options);
+    ASSERT_TRUE(r.illustration.has_value());
+    EXPECT_FALSE(r.fieldPicture.has_value());
+    EXPECT_EQ(r.illustration->composite.width, 96);
+    EXPECT_EQ(r.illustration->composite.height, 64);
+    EXPECT_FALSE(r.illustration->strokes.strokes.empty());
+    // Poincaré–Hopf on the torus: the indices of the drawn field sum to χ = 0.
+    EXPECT_EQ(r.field.singularities.indexNumeratorSum, 0);
+    EXPECT_EQ(r.field.spec.nSym, 4); // the scene's default
+    const std::vector<std::string> names = stageNames(r.timingsMs);
+    ASSERT_GE(names.size(), 6u);
+    EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + 5),
+              (std::vector<std::string>{"load", "frames", "field", "singularities", "bvh"}));
+    EXPECT_EQ(reported, names); // the hook saw every stage, in order
+}
+
+TEST(RenderScene, FieldPictureSceneGivesThePictureAndNoStrokes) {
+    const scenes::SceneDesc desc =
+        scenes::parseScene(std::string(kTorus) + "picture: {kind: field, separatrices: true}\n", kScenePath);
+    const scenes::RenderResult r = scenes::renderScene(desc);
+    ASSERT_TRUE(r.fieldPicture.has_value());
+    EXPECT_FALSE(r.illustration.has_value());
+    EXPECT_EQ(r.rays, nullptr);
+    EXPECT_EQ(r.fieldPicture->width, 96);
+    EXPECT_EQ(r.fieldPicture->height, 64);
+    const std::vector<std::string> names = stageNames(r.timingsMs);
+    EXPECT_EQ(names, (std::vector<std::string>{"load", "frames", "field", "singularities", "separatrices",
+                                               "field_picture"}));
+}
+
+TEST(BuildSceneField, AppliesTheSceneEditsUnlessTurnedOff) {
+    const scenes::SceneDesc desc = scenes::parseScene(kDiskWithEdit, kScenePath);
+    const scenes::SceneField edited = scenes::buildSceneField(desc);
+    ASSERT_EQ(edited.field.edits.size(), 1u);
+    EXPECT_EQ(edited.field.edits[0].before.size(), 2u);
+    EXPECT_TRUE(edited.field.singularities.singularities.empty());
+    scenes::PipelineOptions off;
+    off.applyEdits = false;
+    const scenes::SceneField plain = scenes::buildSceneField(desc, off);
+    EXPECT_TRUE(plain.field.edits.empty());
+    ASSERT_EQ(plain.field.singularities.singularities.size(), 2u);
+    EXPECT_EQ(plain.field.singularities.indexNumeratorSum, 0); // +1 and −1
+    EXPECT_EQ(stageNames(plain.timingsMs), (std::vector<std::string>{"load", "frames", "field", "singularities"}));
+}
+
+TEST(BuildSceneField, SymmetryOverrideReplacesTheScenesN) {
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    scenes::PipelineOptions two;
+    two.nSym = 2;
+    const scenes::SceneField f = scenes::buildSceneField(desc, two);
+    EXPECT_EQ(f.field.spec.nSym, 2);
+    EXPECT_EQ(f.field.field.field.nSym, 2);
+    EXPECT_EQ(f.field.singularities.indexNumeratorSum, 0);
+}
+
+TEST(BuildSceneField, AfterLoadSeesTheSceneAndCanRefuseIt) {
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    scenes::PipelineOptions options;
+    int facesSeen = 0;
+    options.afterLoad = [&](scenes::Scene &scene) { facesSeen = scene.mesh.nFaces(); };
+    const scenes::SceneField f = scenes::buildSceneField(desc, options);
+    EXPECT_EQ(facesSeen, 2 * 48 * 24); // the torus primitive's 2 nu nv triangles
+    EXPECT_EQ(f.loaded.scene->mesh.nFaces(), facesSeen);
+    options.afterLoad = [](scenes::Scene &) { throw std::runtime_error("too large"); };
+    EXPECT_THROW(scenes::buildSceneField(desc, options), std::runtime_error);
+}
+
+TEST(CancelClosestPairs, CancelsTheNearestOppositePairFirst) {
+    // Two designed ±1 pairs on a disk, A 0.2 apart and B 0.5 apart (the design
+    // also leaves singularities near the boundary). The nearest +1/−1 pair is
+    // found here by brute force over the list; one round must remove exactly it.
+    const field::Mesh mesh = field::makeDisk(16);
+    const field::TangentFrames frames(mesh);
+    field::FieldSpec spec;
+    spec.source = field::FieldSource::Design;
+    spec.weights = field::LaplaceWeights::Cotan;
+    auto element = [](double x, double y, int order) {
+        field::DesignElement e;
+        e.position = field::Vec3(x, y, 0);
+        e.order = order;
+        return e;
+    };
+    spec.elements = {element(-0.5, 0.4, 1), element(-0.3, 0.4, -1), element(0.1, -0.4, 1), element(0.6, -0.4, -1)};
+    field::RosyField rosyField = field::buildField(frames, spec).field;
+    const std::vector<field::Singularity> before = field::findSingularities(frames, rosyField).singularities;
+    ASSERT_GE(before.size(), 4u);
+    double best = 1e300;
+    int bestPlus = -1, bestMinus = -1;
+    for (const field::Singularity &s : before)
+        for (const field::Singularity &t : before)
+            if (s.indexNumerator == 1 && t.indexNumerator == -1 && (s.position - t.position).norm() < best) {
+                best = (s.position - t.position).norm();
+                bestPlus = s.face;
+                bestMinus = t.face;
+            }
+    ASSERT_GE(bestPlus, 0);
+    EXPECT_LT(best, 0.3); // pair A, as designed
+
+    EXPECT_EQ(field::cancelClosestPairs(frames, rosyField, before.size(), 5), 0); // already few enough
+    EXPECT_EQ(field::cancelClosestPairs(frames, rosyField, 0, 1), 1);             // maxPairs stops it after one
+    const std::vector<field::Singularity> after = field::findSingularities(frames, rosyField).singularities;
+    ASSERT_EQ(after.size(), before.size() - 2);
+    for (const field::Singularity &s : after) {
+        EXPECT_NE(s.face, bestPlus);
+        EXPECT_NE(s.face, bestMinus);
+    }
+    // Cancelling keeps the total index (Poincaré–Hopf: it is fixed by the surface).
+    int sumBefore = 0, sumAfter = 0;
+    for (const field::Singularity &s : before) sumBefore += s.indexNumerator;
+    for (const field::Singularity &s : after) sumAfter += s.indexNumerator;
+    EXPECT_EQ(sumAfter, sumBefore);
+}
