@@ -97,16 +97,9 @@ void parseTransform(const Parser &p, const YAML::Node &node, TransformDesc &t) {
 
 void parseMeshFile(const Parser &p, const YAML::Node &node, MeshDesc &mesh) {
     {
-        std::string value = p.text(node, "mesh");
-        fs::path file(value);
-        if (file.is_relative()) file = fs::path(p.path()).parent_path() / file;
-        file = file.lexically_normal();
+        const fs::path file =
+            p.existingFile(node, p.text(node, "mesh"), "mesh", "paths are relative to the scene file's folder");
         std::error_code ec;
-        if (!fs::exists(file, ec))
-            p.fail(node, "mesh file '" + file.string() + "' does not exist",
-                   "paths are relative to the scene file's folder");
-        if (fs::is_directory(file, ec))
-            p.fail(node, "mesh '" + file.string() + "' is a folder, not a file");
         // Links are followed; what they reach must be a file on disk (the readers check
         // header counts against its size, and a device such as /dev/zero never ends).
         if (!fs::is_regular_file(file, ec))

@@ -218,17 +218,10 @@ void parseStyle(const Parser &p, const YAML::Node &node, StyleDesc &sd) {
         const std::string value = p.text(presetNode, "style.preset");
         sd.preset = Located<std::string>{value, p.loc(presetNode)};
         if (looksLikePath(value)) {
-            fs::path file(value);
-            if (file.is_relative()) file = fs::path(p.path()).parent_path() / file;
-            file = file.lexically_normal();
-            std::error_code ec;
-            if (!fs::exists(file, ec))
-                p.fail(presetNode, "style preset file '" + file.string() + "' does not exist",
-                       "give a preset name or a path relative to the scene file");
-            if (fs::is_directory(file, ec))
-                p.fail(presetNode, "style preset '" + file.string() + "' is a folder, not a file",
-                       "give a preset name or the path of a preset .yaml file");
-            sd.presetPath = file.string();
+            sd.presetPath = p.existingFile(presetNode, value, "style preset",
+                                           "give a preset name or a path relative to the scene file",
+                                           "give a preset name or the path of a preset .yaml file")
+                                .string();
         } else {
             std::vector<std::string> names;
             for (const StylePreset &preset : listStylePresets()) {

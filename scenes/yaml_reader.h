@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -153,6 +154,22 @@ public:
     /// A number for messages: six significant digits (printf's %g), so 1e-9 reads
     /// 1e-09 rather than std::to_string's 0.000000.
     static std::string fmt(double v) { return ::fmt::format("{:g}", v); }
+
+    /// The file named by `value` (written at `node`), resolved against this file's
+    /// folder and normalised. Fails at `node` with "WHAT file '...' does not exist"
+    /// (hint `missingHint`) or "WHAT '...' is a folder, not a file" (`folderHint`).
+    std::filesystem::path existingFile(const YAML::Node &node, const std::string &value, const std::string &what,
+                                       const std::string &missingHint, const std::string &folderHint = {}) const {
+        std::filesystem::path file(value);
+        if (file.is_relative()) file = std::filesystem::path(m_path).parent_path() / file;
+        file = file.lexically_normal();
+        std::error_code ec;
+        if (!std::filesystem::exists(file, ec))
+            fail(node, what + " file '" + file.string() + "' does not exist", missingHint);
+        if (std::filesystem::is_directory(file, ec))
+            fail(node, what + " '" + file.string() + "' is a folder, not a file", folderHint);
+        return file;
+    }
 
     const std::string &path() const { return m_path; }
     /// Nodes located at --set overrides so far.
