@@ -1,10 +1,9 @@
 /// \file cmd_compare.cpp
-/// `rosyhatch compare SCENE.yaml`: the same scene drawn along several fields,
-/// side by side, each panel labeled with its field and singularity count, as in
-/// Palacios & Zhang 2007, Figure 1: 2-RoSy against 4-RoSy (a–b, `--symmetry 2,4`),
-/// a topologically edited field against a globally smoothed one (c–d,
-/// `--variants edited,smoothed`). Labels are drawn with a small built-in bitmap
-/// font, so the picture needs no font installed.
+/// `rosyhatch compare SCENE.yaml`: parses the panel flags (--symmetry or
+/// --variants, --smoothing, --cancel-pairs, --field-pictures), runs
+/// scenes::compareScene() (Palacios & Zhang 2007, Figure 1), lays the panels out
+/// with renderer::panelSheet() and writes the image, the per-panel figures on
+/// stderr and the --report / --timings JSON.
 
 #include "cli/commands.h"
 
@@ -12,18 +11,11 @@
 #include "core/error.h"
 #include "core/json.h"
 #include "core/progress.h"
-#include "field/edits.h"
 #include "field/field_builder.h"
-#include "field/separatrices.h"
-#include "field/singularities.h"
-#include "field/smoothing.h"
-#include "renderer/bitmap_font.h"
-#include "renderer/image_io.h"
-#include "renderer/embree_scene.h"
-#include "renderer/field_picture.h"
-#include "renderer/illustration.h"
 #include "renderer/image.h"
-#include "renderer/inspect.h"
+#include "renderer/image_io.h"
+#include "renderer/panel_sheet.h"
+#include "scenes/compare.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
@@ -32,18 +24,13 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <limits>
-#include <memory>
 #include <optional>
 #include <sstream>
 
 namespace rosy::cli {
 namespace {
-
-// --- options and panels -------------------------------------------------------
 
 struct CompareOptions {
     std::string scenePath, outputPath;
@@ -59,16 +46,6 @@ struct CompareOptions {
     bool threadsGiven = false; ///< --threads was given: it beats the scene's `threads`
 };
 
-struct Panel {
-    std::string label;
-    field::RosyField field;
-    field::SingularityReport singularities;
-    /// Hatching panels: what inspect and the stroke list say of its ink.
-    double seamFraction = std::numeric_limits<double>::quiet_NaN();
-    int strokesNearSingularities = 0;
-    double stubFraction = std::numeric_limits<double>::quiet_NaN();
-};
-
 std::vector<std::string> splitList(const std::string &text) {
     std::vector<std::string> items;
     std::stringstream ss(text);
@@ -77,8 +54,6 @@ std::vector<std::string> splitList(const std::string &text) {
         if (!item.empty()) items.push_back(item);
     return items;
 }
-
-std::string countText(size_t n) { return std::to_string(n) + (n == 1 ? " singularity" : " singularities"); }
 
 void runCompare(const CompareOptions &opt) {
     const auto start = std::chrono::steady_clock::now();
@@ -98,17 +73,22 @@ void runCompare(const CompareOptions &opt) {
                          std::string("use one of the extensions ") + renderer::supportedImageExtensions());
 
     // What the panels are, checked before any work.
-    std::vector<int> symmetries;
-    std::vector<std::string> variants;
+    scenes::CompareSpec spec;
+    spec.symmetries.clear();
     if (!opt.variants.empty()) {
-        variants = splitList(opt.variants);
+        const std::vector<std::string> variants = splitList(opt.variants);
         if (variants.empty() || variants.size() > 8)
             throw InputError(FileLoc{"--variants"}, "'" + opt.variants + "' is not a list of 1 to 8 variants",
                              "e.g. --variants edited,smoothed");
-        for (const std::string &v : variants)
-            if (v != "original" && v != "edited" && v != "smoothed")
+        using V = scenes::CompareSpec::Variant;
+        for (const std::string &v : variants) {
+            if (v == "original") spec.variants.push_back(V::Original);
+            else if (v == "edited") spec.variants.push_back(V::Edited);
+            else if (v == "smoothed") spec.variants.push_back(V::Smoothed);
+            else
                 throw InputError(FileLoc{"--variants"}, "unknown variant '" + v + "'",
                                  "use original, edited or smoothed");
+        }
     } else {
         const std::string list = opt.symmetries.empty() ? "2,4" : opt.symmetries;
         for (const std::string &item : splitList(list)) {
@@ -122,22 +102,27 @@ void runCompare(const CompareOptions &opt) {
             if (used != item.size())
                 throw InputError(FileLoc{"--symmetry"}, "'" + item + "' is not a whole number", "e.g. --symmetry 2,4");
             field::checkSymmetry(n, "--symmetry");
-            symmetries.push_back(n);
+            spec.symmetries.push_back(n);
         }
-        if (symmetries.empty() || symmetries.size() > 8)
+        if (spec.symmetries.empty() || spec.symmetries.size() > 8)
             throw InputError(FileLoc{"--symmetry"}, "'" + list + "' is not a list of 1 to 8 symmetries",
                              "e.g. --symmetry 2,4");
     }
-    int smoothIterations = 0;
-    double smoothStrength = 0.5;
     {
+        int smoothIterations = 0;
+        double smoothStrength = 0.5;
         char extra = 0;
         const int n = std::sscanf(opt.smoothing.c_str(), "%d:%lf%c", &smoothIterations, &smoothStrength, &extra);
         if (n < 1 || n > 2 || smoothIterations < 1 || smoothIterations > 100000 ||
             !(smoothStrength > 0 && smoothStrength <= 1))
             throw InputError(FileLoc{"--smoothing"}, "'" + opt.smoothing + "' is not ITERATIONS[:STRENGTH]",
                              "e.g. 60:0.5 (at least one iteration, strength in (0, 1])");
+        spec.smoothIterations = smoothIterations;
+        spec.smoothStrength = smoothStrength;
     }
+    spec.cancelPairs = opt.cancelPairs;
+    spec.fieldPictures = opt.fieldPictures;
+    spec.separatrices = opt.separatrices;
 
     scenes::SceneDesc desc =
         timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides); });
@@ -153,160 +138,25 @@ void runCompare(const CompareOptions &opt) {
     scenes::PipelineOptions pipeline;
     pipeline.load = field::LoadOptions{opt.common.maxFaces};
     pipeline.threads = threads;
-    scenes::StageTimings loadTimings;
-    const scenes::LoadedScene loaded = scenes::loadScene(desc, pipeline, &loadTimings);
-    for (const auto &[stage, ms] : loadTimings) timings.add(stage, ms);
-    const scenes::Scene &scene = *loaded.scene;
-    const field::TangentFrames &frames = *loaded.frames;
-    const field::FieldSpec &spec = desc.field.spec;
-    const char letters[] = "abcdefgh";
+    scenes::Comparison comparison = scenes::compareScene(desc, spec, pipeline);
+    for (const auto &[stage, ms] : comparison.timingsMs) timings.add(stage, ms);
+    const std::vector<scenes::ComparePanel> &panels = comparison.panels;
 
-    std::vector<Panel> panels;
-    timings.time("fields", [&] {
-        if (!symmetries.empty()) {
-            for (size_t k = 0; k < symmetries.size(); ++k) {
-                scenes::PipelineOptions panelOptions = pipeline;
-                panelOptions.nSym = symmetries[k];
-                // The scene's edits name singularities of its own field: only that N gets them.
-                panelOptions.applyEdits = symmetries[k] == spec.nSym;
-                scenes::SceneFieldResult built = scenes::buildSceneField(loaded, desc.field, panelOptions);
-                Panel panel;
-                panel.field = std::move(built.field.field);
-                panel.singularities = std::move(built.singularities);
-                const std::string edited = built.edits.empty() ? "" : ", edited";
-                panel.label = std::string("(") + letters[k] + ") " + std::to_string(symmetries[k]) + "-RoSy" + edited + ": " +
-                              countText(panel.singularities.singularities.size());
-                panels.push_back(std::move(panel));
-            }
-            return;
-        }
-        // The scene's field as built; each variant starts from a copy of it.
-        scenes::PipelineOptions baseOptions = pipeline;
-        baseOptions.applyEdits = false;
-        const scenes::SceneFieldResult built = scenes::buildSceneField(loaded, desc.field, baseOptions);
-        const field::RosyField &base = built.field.field;
-        const std::string name = std::to_string(spec.nSym) + "-RoSy";
-        const size_t baseCount = built.singularities.singularities.size();
-        // The smoothed field first: an automatic edit aims at its singularity count.
-        std::optional<Panel> smoothed;
-        if (std::find(variants.begin(), variants.end(), "smoothed") != variants.end()) {
-            smoothed.emplace();
-            smoothed->field = base;
-            field::relaxationSmooth(frames, smoothed->field, smoothIterations, smoothStrength, {}, spec.weights);
-            smoothed->singularities = field::findSingularities(frames, smoothed->field);
-        }
-        for (size_t k = 0; k < variants.size(); ++k) {
-            const std::string prefix = std::string("(") + letters[k] + ") " + name;
-            Panel panel;
-            std::string what;
-            if (variants[k] == "original") {
-                panel.field = base;
-                panel.singularities = built.singularities;
-                what = "";
-            } else if (variants[k] == "smoothed") {
-                panel = *smoothed;
-                what = ", smoothed " + std::to_string(smoothIterations) + "x";
-            } else {
-                panel.field = base;
-                if (!desc.field.edits.empty()) {
-                    field::applyFieldEdits(frames, panel.field, desc.field.edits);
-                    what = ", " + std::to_string(desc.field.edits.size()) + " edits";
-                } else {
-                    // No edits in the scene: cancel the closest pairs, as many as smoothing
-                    // removed (or --cancel-pairs), so the two remedies are compared fairly.
-                    size_t target = 0;
-                    int maxPairs = opt.cancelPairs;
-                    if (maxPairs < 0) {
-                        const size_t goal = smoothed ? smoothed->singularities.singularities.size()
-                                                     : (baseCount > 20 ? baseCount - 20 : 0);
-                        target = std::min(goal, baseCount);
-                        maxPairs = int(baseCount);
-                    }
-                    const int pairs = field::cancelClosestPairs(frames, panel.field, target, maxPairs);
-                    what = ", " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") + " cancelled";
-                }
-                panel.singularities = field::findSingularities(frames, panel.field);
-            }
-            panel.label = prefix + what + ": " + countText(panel.singularities.singularities.size());
-            panels.push_back(std::move(panel));
-        }
-    });
-
-    // One picture per panel, all through the scene's camera.
-    std::vector<renderer::Image> pictures;
-    std::unique_ptr<renderer::RayScene> rayScene;
-    if (!opt.fieldPictures)
-        rayScene = timings.time("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
-    timings.time("panels", [&] {
-        for (Panel &panel : panels) {
-            if (opt.fieldPictures) {
-                std::vector<field::Separatrix> seps;
-                if (opt.separatrices)
-                    seps = field::traceSeparatrices(frames, panel.field, panel.singularities.singularities);
-                renderer::FieldPictureOptions fo;
-                fo.lights = scene.lights;
-                pictures.push_back(renderer::renderFieldPicture(scene.mesh, frames, panel.field, panel.singularities,
-                                                                seps, scene.camera, fo));
-                continue;
-            }
-            renderer::Illustration il = scenes::drawHatching(loaded, panel.field, panel.singularities, *rayScene);
-            // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
-            // figures: cracks in the cross-hatching and strokes crossing singularities.
-            panel.seamFraction = renderer::inspectInk(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;
-            panel.strokesNearSingularities = il.hatch.strokesNearSingularities;
-            panel.stubFraction = il.hatch.stubFraction;
-            pictures.push_back(std::move(il.composite));
-        }
-    });
-
-    // Side by side on paper, labels underneath in ink.
-    const int w = scene.camera.width(), h = scene.camera.height();
-    const int n = int(pictures.size());
-    const int gap = std::max(4, std::min(w, h) / 32);
-    size_t longest = 0;
-    for (const Panel &p : panels) longest = std::max(longest, p.label.size());
-    // Labels about 2.5% of the panel height tall, shrunk to fit the panel width;
-    // a label still too wide breaks after its ':' (field, then count), and a line
-    // still too wide is clipped at the panel's edges.
-    int scale = std::max(1, int(std::lround(std::min(w, h) * 0.025 / 7.0)));
-    while (scale > 1 && renderer::textWidthPx(std::string(longest, 'x'), scale) > w) --scale;
-    std::vector<std::vector<std::string>> labelLines;
-    size_t maxLines = 1;
-    for (const Panel &p : panels) {
-        std::vector<std::string> lines{p.label};
-        const size_t colon = p.label.rfind(": ");
-        if (renderer::textWidthPx(p.label, scale) > w && colon != std::string::npos)
-            lines = {p.label.substr(0, colon + 1), p.label.substr(colon + 2)};
-        maxLines = std::max(maxLines, lines.size());
-        labelLines.push_back(lines);
-    }
-    const int lineHeight = (renderer::kFontGlyphRows + 2) * scale;
-    const int band = int(maxLines) * lineHeight + gap;
+    // Side by side on paper, labels underneath in ink (field pictures: black on white).
+    const styles::Style &style = comparison.loaded.scene->style;
     auto toFloat = [](const styles::Rgb &c) { return std::array<float, 3>{float(c[0]), float(c[1]), float(c[2])}; };
-    const std::array<float, 3> paper = opt.fieldPictures ? std::array<float, 3>{1, 1, 1} : toFloat(scene.style.paper);
-    const std::array<float, 3> ink = opt.fieldPictures ? std::array<float, 3>{0, 0, 0} : toFloat(scene.style.ink);
-    renderer::Image sheet(n * w + (n + 1) * gap, h + 2 * gap + band, {"R", "G", "B"});
-    for (int y = 0; y < sheet.height; ++y)
-        for (int x = 0; x < sheet.width; ++x)
-            for (int c = 0; c < 3; ++c) sheet.at(x, y, c) = paper[size_t(c)];
-    for (int k = 0; k < n; ++k) {
-        const renderer::Image &pic = pictures[size_t(k)];
-        const int x0 = gap + k * (w + gap), y0 = gap;
-        const bool hasAlpha = pic.nChannels >= 4;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const float a = hasAlpha ? pic.at(x, y, 3) : 1.0f;
-                for (int c = 0; c < 3; ++c)
-                    sheet.at(x0 + x, y0 + y, c) = pic.at(x, y, c) * a + paper[size_t(c)] * (1 - a);
-            }
-        const std::vector<std::string> &lines = labelLines[size_t(k)];
-        for (size_t i = 0; i < lines.size(); ++i)
-            renderer::drawText(sheet, lines[i], x0 + std::max(0, (w - renderer::textWidthPx(lines[i], scale)) / 2),
-                     y0 + h + gap / 2 + int(i) * lineHeight, scale, ink, x0, x0 + w);
+    const std::array<float, 3> paper = opt.fieldPictures ? std::array<float, 3>{1, 1, 1} : toFloat(style.paper);
+    const std::array<float, 3> ink = opt.fieldPictures ? std::array<float, 3>{0, 0, 0} : toFloat(style.ink);
+    std::vector<renderer::Image> pictures;
+    std::vector<std::string> labels;
+    for (scenes::ComparePanel &p : comparison.panels) {
+        pictures.push_back(std::move(p.picture)); // only the sheet needs them
+        labels.push_back(p.label);
     }
+    const renderer::Image sheet = renderer::panelSheet(pictures, labels, paper, ink);
     timings.time("write", [&] { renderer::writeImage(sheet, opt.outputPath); });
 
-    auto figures = [&](const Panel &p) {
+    auto figures = [&](const scenes::ComparePanel &p) {
         if (opt.fieldPictures) return std::string();
         char buf[160];
         std::snprintf(buf, sizeof buf, "; seam_fraction %.4f, strokes_near_singularities %d", p.seamFraction,
@@ -314,13 +164,13 @@ void runCompare(const CompareOptions &opt) {
         return std::string(buf);
     };
     if (!opt.common.quiet)
-        for (const Panel &p : panels) std::cerr << p.label << figures(p) << "\n";
+        for (const scenes::ComparePanel &p : panels) std::cerr << p.label << figures(p) << "\n";
     if (!opt.reportPath.empty()) {
         JsonWriter json;
         json.beginObject();
         json.field("scene", opt.scenePath).field("output", opt.outputPath);
         json.key("panels").beginArray();
-        for (const Panel &p : panels) {
+        for (const scenes::ComparePanel &p : panels) {
             json.beginObject();
             json.field("label", p.label).field("symmetry", p.field.nSym);
             json.field("singularities", int(p.singularities.singularities.size()));

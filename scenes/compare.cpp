@@ -1,0 +1,154 @@
+#include "scenes/compare.h"
+
+#include "field/edits.h"
+#include "field/separatrices.h"
+#include "field/smoothing.h"
+#include "renderer/embree_scene.h"
+#include "renderer/field_picture.h"
+#include "renderer/illustration.h"
+#include "renderer/inspect.h"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+namespace rosy::scenes {
+
+namespace {
+
+std::string countText(size_t n) { return std::to_string(n) + (n == 1 ? " singularity" : " singularities"); }
+
+} // namespace
+
+Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const PipelineOptions &options) {
+    using Variant = CompareSpec::Variant;
+    Comparison out;
+    auto record = [&](const char *stage, std::chrono::steady_clock::time_point start) {
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        out.timingsMs.emplace_back(stage, ms);
+        if (options.onStage) options.onStage(stage, ms);
+    };
+    auto timed = [&](const char *stage, auto &&work) {
+        const auto start = std::chrono::steady_clock::now();
+        if constexpr (std::is_void_v<decltype(work())>) {
+            work();
+            record(stage, start);
+        } else {
+            auto result = work();
+            record(stage, start);
+            return result;
+        }
+    };
+    out.loaded = loadScene(desc, options, &out.timingsMs);
+    const LoadedScene &loaded = out.loaded;
+    const Scene &scene = *loaded.scene;
+    const field::TangentFrames &frames = *loaded.frames;
+    const field::FieldSpec &fieldSpec = desc.field.spec;
+    const char letters[] = "abcdefgh";
+
+    std::vector<ComparePanel> &panels = out.panels;
+    timed("fields", [&] {
+        if (spec.variants.empty()) {
+            for (size_t k = 0; k < spec.symmetries.size(); ++k) {
+                PipelineOptions panelOptions = options;
+                panelOptions.nSym = spec.symmetries[k];
+                // The scene's edits name singularities of its own field: only that N gets them.
+                panelOptions.applyEdits = spec.symmetries[k] == fieldSpec.nSym;
+                SceneFieldResult built = buildSceneField(loaded, desc.field, panelOptions);
+                ComparePanel panel;
+                panel.field = std::move(built.field.field);
+                panel.singularities = std::move(built.singularities);
+                const std::string edited = built.edits.empty() ? "" : ", edited";
+                panel.label = std::string("(") + letters[k] + ") " + std::to_string(spec.symmetries[k]) + "-RoSy" +
+                              edited + ": " + countText(panel.singularities.singularities.size());
+                panels.push_back(std::move(panel));
+            }
+            return;
+        }
+        // The scene's field as built; each variant starts from a copy of it.
+        PipelineOptions baseOptions = options;
+        baseOptions.applyEdits = false;
+        const SceneFieldResult built = buildSceneField(loaded, desc.field, baseOptions);
+        const field::RosyField &base = built.field.field;
+        const std::string name = std::to_string(fieldSpec.nSym) + "-RoSy";
+        const size_t baseCount = built.singularities.singularities.size();
+        // The smoothed field first: an automatic edit aims at its singularity count.
+        std::optional<ComparePanel> smoothed;
+        if (std::find(spec.variants.begin(), spec.variants.end(), Variant::Smoothed) != spec.variants.end()) {
+            smoothed.emplace();
+            smoothed->field = base;
+            field::relaxationSmooth(frames, smoothed->field, spec.smoothIterations, spec.smoothStrength, {},
+                                    fieldSpec.weights);
+            smoothed->singularities = field::findSingularities(frames, smoothed->field);
+        }
+        for (size_t k = 0; k < spec.variants.size(); ++k) {
+            const std::string prefix = std::string("(") + letters[k] + ") " + name;
+            ComparePanel panel;
+            std::string what;
+            if (spec.variants[k] == Variant::Original) {
+                panel.field = base;
+                panel.singularities = built.singularities;
+                what = "";
+            } else if (spec.variants[k] == Variant::Smoothed) {
+                panel = *smoothed;
+                what = ", smoothed " + std::to_string(spec.smoothIterations) + "x";
+            } else {
+                panel.field = base;
+                if (!desc.field.edits.empty()) {
+                    field::applyFieldEdits(frames, panel.field, desc.field.edits);
+                    what = ", " + std::to_string(desc.field.edits.size()) + " edits";
+                } else {
+                    // No edits in the scene: cancel the closest pairs, as many as smoothing
+                    // removed (or --cancel-pairs), so the two remedies are compared fairly.
+                    size_t target = 0;
+                    int maxPairs = spec.cancelPairs;
+                    if (maxPairs < 0) {
+                        const size_t goal = smoothed ? smoothed->singularities.singularities.size()
+                                                     : (baseCount > 20 ? baseCount - 20 : 0);
+                        target = std::min(goal, baseCount);
+                        maxPairs = int(baseCount);
+                    }
+                    const int pairs = field::cancelClosestPairs(frames, panel.field, target, maxPairs);
+                    what = ", " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") + " cancelled";
+                }
+                panel.singularities = field::findSingularities(frames, panel.field);
+            }
+            panel.label = prefix + what + ": " + countText(panel.singularities.singularities.size());
+            panels.push_back(std::move(panel));
+        }
+    });
+
+    // One picture per panel, all through the scene's camera.
+    std::unique_ptr<renderer::RayScene> rayScene;
+    if (!spec.fieldPictures)
+        rayScene = timed("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
+    timed("panels", [&] {
+        for (ComparePanel &panel : panels) {
+            if (spec.fieldPictures) {
+                std::vector<field::Separatrix> seps;
+                if (spec.separatrices)
+                    seps = field::traceSeparatrices(frames, panel.field, panel.singularities.singularities);
+                renderer::FieldPictureOptions fo;
+                fo.lights = scene.lights;
+                panel.picture = renderer::renderFieldPicture(scene.mesh, frames, panel.field, panel.singularities,
+                                                             seps, scene.camera, fo);
+                continue;
+            }
+            renderer::Illustration il = drawHatching(loaded, panel.field, panel.singularities, *rayScene);
+            // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
+            // figures: cracks in the cross-hatching and strokes crossing singularities.
+            panel.seamFraction = renderer::inspectInk(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;
+            panel.strokesNearSingularities = il.hatch.strokesNearSingularities;
+            panel.stubFraction = il.hatch.stubFraction;
+            panel.picture = std::move(il.composite);
+        }
+    });
+
+    return out;
+}
+
+} // namespace rosy::scenes
