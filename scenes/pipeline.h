@@ -9,7 +9,8 @@
 ///
 /// renderScene() runs all of it; buildSceneField() stops after the singularities.
 /// The pieces loadScene(), buildSceneField(LoadedScene...) and drawHatching() are
-/// public for callers that draw several fields of one scene (`rosyhatch compare`).
+/// public for callers that draw several fields of one scene (compareScene(),
+/// compare.h, behind `rosyhatch compare`).
 /// Stages pick their behaviour through PipelineOptions, never by being skipped in
 /// a copy of the chain. Nothing here writes files: the results are plain values.
 

@@ -11,6 +11,7 @@
 ///   scene_builder.cpp SceneDesc -> Scene (buildScene: meshes, primitives, camera, lights)
 ///   suggest.*        "did you mean" for unknown names
 ///   pipeline.*       Scene -> field -> drawing (renderScene, buildSceneField)
+///   compare.*        several fields of one scene side by side (compareScene)
 
 #include "core/error.h"
 #include "field/edits.h"
