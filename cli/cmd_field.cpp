@@ -11,8 +11,9 @@
 #include "core/json.h"
 #include "field/field_builder.h"
 #include "field/field_io.h"
-#include "field/mesh_io.h"
-#include "field/mesh_stats.h"
+#include "field/mesh/mesh_io.h"
+#include "field/mesh/mesh_stats.h"
+#include "field/mesh/poly_mesh.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
 #include "field/smoothing.h"
@@ -24,6 +25,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,6 +51,8 @@ struct FieldOptions {
     std::vector<std::pair<std::string, std::string>> editOrder;
     bool separatrices = false;
     std::string jsonPath, plyPath;
+    std::string exportMeshPath;    ///< --export-mesh: the repaired mesh through OpenMesh's writers
+    bool exportMeshDirections = false;
     std::string imagePath, imageBeforePath; ///< field pictures after / before the edits
     std::vector<std::string> overrides;     ///< --set KEY=VALUE (scenes only)
     CommonOptions common;
@@ -163,6 +167,15 @@ void writeSingularityList(JsonWriter &json, const std::vector<field::Singularity
     json.endArray();
 }
 
+/// {"method": ..., "iterations": N, "lobpcg_iterations": N, "fallback": null | "reason"}.
+void writeEigenSolveJson(JsonWriter &json, const field::EigenSolveReport &solve) {
+    json.beginObject().field("method", solve.method).field("iterations", solve.iterations);
+    json.field("lobpcg_iterations", solve.lobpcgIterations).key("fallback");
+    if (solve.fallbackReason.empty()) json.null();
+    else json.value(solve.fallbackReason);
+    json.endObject();
+}
+
 void writeEditsJson(JsonWriter &json, const std::vector<scenes::AppliedEdit> &edits) {
     json.key("edits").beginArray();
     for (const scenes::AppliedEdit &e : edits) {
@@ -251,6 +264,22 @@ void runField(const FieldOptions &opt) {
     }
     if (!opt.jsonPath.empty()) checkWritable(opt.jsonPath);
     if (!opt.plyPath.empty()) checkWritable(opt.plyPath);
+    if (!opt.exportMeshPath.empty()) {
+        if (!field::isMeshExportPath(opt.exportMeshPath))
+            throw InputError(FileLoc{"--export-mesh"}, "cannot write a mesh named '" + opt.exportMeshPath + "'",
+                             std::string("use one of the extensions ") + field::meshExportExtensions());
+        checkWritable(opt.exportMeshPath);
+    }
+    if (opt.exportMeshDirections) {
+        if (opt.exportMeshPath.empty())
+            throw InputError(FileLoc{"--export-mesh-directions"}, "there is no --export-mesh to add directions to",
+                             "give --export-mesh OUT.ply (or .obj, .off)");
+        std::string ext = opt.exportMeshPath.substr(opt.exportMeshPath.size() - 4);
+        for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext == ".stl")
+            throw InputError(FileLoc{"--export-mesh-directions"}, "STL files have no per-vertex data",
+                             "export to .ply, .obj or .off to keep the directions");
+    }
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
     for (const auto &[flag, path] : {std::pair<std::string, std::string>{"--image", opt.imagePath},
                                      std::pair<std::string, std::string>{"--image-before", opt.imageBeforePath}}) {
@@ -260,8 +289,8 @@ void runField(const FieldOptions &opt) {
                              std::string("use one of the extensions ") + renderer::supportedImageExtensions());
         checkWritable(path);
     }
-    for (const std::string &out : {opt.jsonPath, opt.plyPath, opt.common.timingsPath, opt.imagePath,
-                                   opt.imageBeforePath}) {
+    for (const std::string &out : {opt.jsonPath, opt.plyPath, opt.exportMeshPath, opt.common.timingsPath,
+                                   opt.imagePath, opt.imageBeforePath}) {
         checkNotAnInput(out, opt.input, isScene ? "scene file" : "input mesh");
         if (scene && scene->mesh.file) checkNotAnInput(out, scene->mesh.file->value, "input mesh");
     }
@@ -356,6 +385,14 @@ void runField(const FieldOptions &opt) {
         std::printf("timings:");
         for (const auto &[stage, t] : ms) std::printf(" %s %.1f ms", stage.c_str(), t);
         std::printf("\n");
+        if (result.eigenSolve)
+            std::printf("eigen-solve: %s, %d iterations%s\n", result.eigenSolve->method.c_str(),
+                        result.eigenSolve->iterations,
+                        result.eigenSolve->fallbackReason.empty()
+                            ? ""
+                            : (" (LOBPCG gave up after " + std::to_string(result.eigenSolve->lobpcgIterations) +
+                               ": " + result.eigenSolve->fallbackReason + ")")
+                                  .c_str());
     }
     if (!opt.jsonPath.empty()) {
         JsonWriter json;
@@ -366,17 +403,32 @@ void runField(const FieldOptions &opt) {
         json.field("smoothing_length", spec.smoothingLength).endObject();
         writeEditsJson(json, applied);
         if (opt.separatrices) field::writeSeparatricesJson(json, separatrices);
+        if (result.eigenSolve) {
+            json.key("eigen_solve");
+            writeEigenSolveJson(json, *result.eigenSolve);
+        }
         json.key("timings_ms").beginObject();
         for (const auto &[stage, t] : ms) json.field(stage, t);
         json.endObject().endObject();
         writeTextAtomically(opt.jsonPath, json.str());
     }
     if (!opt.plyPath.empty()) field::writeFieldPly(opt.plyPath, frames, result.field);
+    if (!opt.exportMeshPath.empty()) {
+        field::MeshExportOptions exportOptions;
+        if (opt.exportMeshDirections)
+            for (int v = 0; v < mesh.nVertices(); ++v)
+                exportOptions.vertexDirections.push_back(field::memberDirections(frames, result.field, v)[0]);
+        field::writePolyMesh(opt.exportMeshPath, field::toPolyMesh(mesh), exportOptions);
+    }
     if (!opt.common.timingsPath.empty()) {
-        // --timings was accepted and checked but never written before.
+        // Stage milliseconds, and the smoothest field's eigen-solve when there was one.
         JsonWriter json;
         json.beginObject();
         for (const auto &[stage, t] : ms) json.field(stage, t);
+        if (result.eigenSolve) {
+            json.key("eigen_solve");
+            writeEigenSolveJson(json, *result.eigenSolve);
+        }
         json.endObject();
         writeTextAtomically(opt.common.timingsPath, json.str());
     }
@@ -413,6 +465,11 @@ void addFieldCommand(CLI::App &app, Action &action) {
     sub->add_flag("--separatrices", opt->separatrices, "Trace separatrices and add them to the JSON report");
     sub->add_option("--json", opt->jsonPath, "Write the JSON report here");
     sub->add_option("--export", opt->plyPath, "Write the field as PLY with per-vertex member directions");
+    sub->add_option("--export-mesh", opt->exportMeshPath,
+                    "Write the repaired mesh through OpenMesh's writers (.obj, .off, .ply binary, .stl binary)");
+    sub->add_flag("--export-mesh-directions", opt->exportMeshDirections,
+                  "With --export-mesh: each vertex's first field direction (unit, world) in the format's "
+                  "vertex-normal slot (OBJ vn, NOFF, PLY nx ny nz; not STL)");
     sub->add_option("--image", opt->imagePath,
                     "Write a picture of the field (after any edits): shaded mesh, streamlines, singularities "
                     "(red +, blue -, darker/larger for higher order), separatrices with --separatrices "

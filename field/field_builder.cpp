@@ -78,7 +78,9 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
     switch (spec.source) {
     case FieldSource::Smoothest: {
         auto t0 = Clock::now();
-        out.field = smoothestField(frames, spec.nSym).field;
+        SmoothestResult smoothest = smoothestField(frames, spec.nSym);
+        out.field = std::move(smoothest.field);
+        out.eigenSolve = smoothest.solver;
         out.timingsMs["solve"] = msSince(t0);
         break;
     }
@@ -107,7 +109,9 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
                              "area-weighted |k1 - k2| / (|k1| + |k2|) = ") +
                      measured + "), so curvature gives no direction; using the globally smoothest "
                      "field instead (or choose `source: smoothest` or `source: design`)");
-            out.field = smoothestField(frames, spec.nSym).field;
+            SmoothestResult smoothest = smoothestField(frames, spec.nSym);
+            out.field = std::move(smoothest.field);
+            out.eigenSolve = smoothest.solver;
         } else if (!spec.elements.empty()) {
             // Elements are Dirichlet constraints; the curvature field guides the rest.
             std::vector<char> fixed;

@@ -10,6 +10,7 @@
 #include "field/smoothing.h"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,10 @@ struct FieldResult {
     RosyField field;
     std::vector<VertexCurvature> curvature; ///< filled for the curvature source
     std::map<std::string, double> timingsMs; ///< per stage: curvature, solve, smoothing
+    /// The smoothest field's eigen-solve (method, iterations, any fallback and why),
+    /// when the field came from smoothestField(): the smoothest source, or the
+    /// curvature source's fallback on a surface without anisotropy.
+    std::optional<EigenSolveReport> eigenSolve;
 };
 
 /// Representation vectors of the curvature field: u_v = a_v e^{iNφ_v}, φ_v the

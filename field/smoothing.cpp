@@ -1,11 +1,13 @@
 #include "field/smoothing.h"
 
+#include "core/diagnostics.h"
 #include "core/error.h"
 
 #include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
 #include <Eigen/Eigenvalues>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -134,6 +136,97 @@ Eigen::VectorXcd inverseIteration(const SparseMatrixC &A, const Eigen::VectorXd 
     return x;
 }
 
+// Block LOBPCG (Knyazev 2001, Alg. 4.1) for the smallest eigenpairs of
+// A u = λ M u, started from the columns of X0 (n x blockSize). Single-vector
+// LOBPCG converges at a rate set by the gap λ2 − λ1; on noisy scans many small
+// eigenvalues cluster (each noise-made singularity pair is a nearly free mode),
+// and a block of k converges at the rate of the gap to λ_{k+1} instead. Every
+// Rayleigh–Ritz basis [X W P] is M-orthonormalised explicitly (twice, dropping
+// directions that vanish), as in the single-vector loop, since near convergence
+// W and P become almost dependent on X. Returns true with x the first Ritz
+// vector (M-normalised) once its residual ‖A x − λ M x‖_{M⁻¹} ≤ `tolerance`.
+bool blockLobpcg(const SparseMatrixC &A, const Eigen::VectorXd &m, const TwoLevelPreconditioner &pre,
+                 const Eigen::MatrixXcd &X0, double tolerance, int maxIterations, Eigen::VectorXcd &x,
+                 int &iterations, double &residual) {
+    const int n = int(A.rows());
+    const Eigen::VectorXd invM = m.cwiseInverse();
+    std::vector<Eigen::VectorXcd> basis, images; // M-orthonormal columns and A times them
+    auto add = [&](Eigen::VectorXcd v, Eigen::VectorXcd Av, bool haveImage) {
+        const double before = std::sqrt(std::real(blockDot(v, m, v)));
+        for (int pass = 0; pass < 2; ++pass)
+            for (size_t b = 0; b < basis.size(); ++b) {
+                const Complex c = blockDot(basis[b], m, v);
+                v -= c * basis[b];
+                if (haveImage) Av -= c * images[b];
+            }
+        const double after = std::sqrt(std::real(blockDot(v, m, v)));
+        if (!(after > 1e-10 * before) || !(after > 0)) return;
+        v /= after;
+        if (haveImage) Av /= after;
+        else multiplyHermitian(A, v, Av);
+        basis.push_back(std::move(v));
+        images.push_back(std::move(Av));
+    };
+    for (int j = 0; j < X0.cols(); ++j) add(X0.col(j), Eigen::VectorXcd(), false);
+    const int k = int(basis.size());
+    if (k == 0) return false;
+    std::vector<Eigen::VectorXcd> X, AX, P, AP;
+    Eigen::VectorXcd r, w;
+    for (int it = 0; it <= maxIterations; ++it) {
+        // Rayleigh–Ritz on the orthonormal basis: the projected A, Hermitian.
+        const int nb = int(basis.size());
+        Eigen::MatrixXcd G(nb, nb);
+        for (int a = 0; a < nb; ++a)
+            for (int b = a; b < nb; ++b) {
+                G(a, b) = blockDot(basis[a], images[b]);
+                G(b, a) = std::conj(G(a, b));
+            }
+        for (int a = 0; a < nb; ++a) G(a, a) = G(a, a).real();
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> ritz(G);
+        const Eigen::MatrixXcd &C = ritz.eigenvectors();
+        X.assign(size_t(k), Eigen::VectorXcd::Zero(n));
+        AX.assign(size_t(k), Eigen::VectorXcd::Zero(n));
+        P.assign(size_t(k), Eigen::VectorXcd::Zero(n));
+        AP.assign(size_t(k), Eigen::VectorXcd::Zero(n));
+        for (int j = 0; j < k; ++j)
+            for (int a = 0; a < nb; ++a) {
+                X[size_t(j)] += C(a, j) * basis[size_t(a)];
+                AX[size_t(j)] += C(a, j) * images[size_t(a)];
+                if (a >= k) {
+                    // The part of the update outside the old X: the next search direction.
+                    P[size_t(j)] += C(a, j) * basis[size_t(a)];
+                    AP[size_t(j)] += C(a, j) * images[size_t(a)];
+                }
+            }
+        // Residuals; convergence is judged on the smallest pair only.
+        basis.clear();
+        images.clear();
+        for (int j = 0; j < k; ++j) {
+            basis.push_back(X[size_t(j)]);
+            images.push_back(AX[size_t(j)]);
+        }
+        std::vector<Eigen::VectorXcd> W;
+        for (int j = 0; j < k; ++j) {
+            r = AX[size_t(j)] - ritz.eigenvalues()[j] * m.cast<Complex>().cwiseProduct(X[size_t(j)]);
+            if (j == 0) {
+                residual = std::sqrt(std::real(blockDot(r, invM, r)));
+                iterations = it;
+                if (!std::isfinite(residual)) return false;
+                if (residual <= tolerance) {
+                    x = X[0];
+                    return true;
+                }
+            }
+            pre.apply(r, w);
+            W.push_back(w);
+        }
+        for (int j = 0; j < k; ++j) add(W[size_t(j)], Eigen::VectorXcd(), false);
+        if (it > 0)
+            for (int j = 0; j < k; ++j) add(P[size_t(j)], AP[size_t(j)], true);
+    }
+    return false;
+}
+
 // Smallest eigenvector of A u = λ M u (M = diag(m)), M-normalised, by LOBPCG
 // (Knyazev 2001) with block size one and the two-level preconditioner of
 // A + σM, σ the coarse (Galerkin) eigenvalue. Start: the coarse eigenvector by
@@ -143,7 +236,8 @@ Eigen::VectorXcd inverseIteration(const SparseMatrixC &A, const Eigen::VectorXd 
 // dense solve with the Kato–Temple bound). Falls back
 // to inverse iteration on a sparse factorization if it stalls.
 Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
-                                   const SparseMatrixC &A, const Eigen::VectorXd &m, int &iterations) {
+                                   const SparseMatrixC &A, const Eigen::VectorXd &m, const SmoothestOptions &options,
+                                   EigenSolveReport &report) {
     const int n = int(A.rows());
     // A component whose faces all have zero area has no mass matrix: the
     // generalized eigenproblem is undefined (and the scale below divides by 0).
@@ -156,7 +250,7 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
         const Eigen::MatrixXcd Ad = Eigen::MatrixXcd(A);
         const Eigen::MatrixXcd Md = m.cast<Complex>().asDiagonal();
         Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> es(Ad, Md);
-        iterations = 1;
+        report = {"dense", 1, 0, {}};
         return es.eigenvectors().col(0);
     }
     auto shifted = [&](double sigma) {
@@ -202,12 +296,50 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
         multiplyHermitian(A, x, Ax);
         double lambda = std::real(blockDot(x, Ax));
         bool haveP = false;
-        for (int it = 0; it < 400; ++it) {
+        double rNorm = 0;
+        const int switchAt = options.lobpcgIterations;
+        for (int it = 0; it <= switchAt; ++it) {
+            if (it == switchAt) {
+                if (options.blockSize <= 0 || it == 0) break;
+                // Stalled: a block continues from x and the last search direction, the
+                // other columns smooth deterministic vectors (preconditioned M-weighted
+                // unit phasors), so the result is the same for any thread count.
+                Eigen::MatrixXcd X0(n, options.blockSize);
+                X0.col(0) = x;
+                int filled = 1;
+                if (haveP && filled < options.blockSize) X0.col(filled++) = p;
+                for (int j = 0; filled < options.blockSize; ++j) {
+                    const Eigen::VectorXcd seed =
+                        m.cast<Complex>().cwiseProduct(startVector(n).array().pow(double(j + 2)).matrix());
+                    pre.apply(seed, w);
+                    X0.col(filled++) = w;
+                }
+                int blockIterations = 0;
+                double blockResidual = 0;
+                const double tolerance = 1e-3 * std::max(lambda, eps);
+                if (blockLobpcg(A, m, pre, X0, tolerance, options.blockIterations, x, blockIterations,
+                                blockResidual)) {
+                    report.method = "block-lobpcg";
+                    report.iterations = it + blockIterations;
+                    return x;
+                }
+                report.lobpcgIterations = it + blockIterations;
+                report.fallbackReason = fmt::format(
+                    "LOBPCG did not converge in {} single-vector and {} block-of-{} iterations (residual {:.3g}, "
+                    "target {:.3g})",
+                    it, blockIterations, options.blockSize, blockResidual, tolerance);
+                break;
+            }
             r = Ax - lambda * (m.cast<Complex>().cwiseProduct(x));
-            const double rNorm = std::sqrt(std::real(blockDot(r, invM, r)));
-            if (!std::isfinite(rNorm)) break;
+            rNorm = std::sqrt(std::real(blockDot(r, invM, r)));
+            report.lobpcgIterations = it + 1;
+            if (!std::isfinite(rNorm)) {
+                report.fallbackReason = fmt::format("LOBPCG's residual became non-finite at iteration {}", it + 1);
+                break;
+            }
             if (rNorm <= 1e-3 * std::max(lambda, eps)) {
-                iterations = it + 1;
+                report.method = "lobpcg";
+                report.iterations = it + 1;
                 return x;
             }
             pre.apply(r, w);
@@ -262,14 +394,21 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
             Ax /= xNorm;
             lambda = std::real(blockDot(x, Ax));
         }
-    } catch (const SolverFailure &) {
+        if (report.fallbackReason.empty())
+            report.fallbackReason =
+                fmt::format("LOBPCG did not converge in {} iterations (residual {:.3g}, target {:.3g})",
+                            switchAt, rNorm, 1e-3 * std::max(lambda, eps));
+    } catch (const SolverFailure &failure) {
+        report.fallbackReason = std::string("LOBPCG's preconditioner failed: ") + failure.what();
     }
-    return inverseIteration(A, m, eps, iterations);
+    report.method = "inverse-iteration";
+    Eigen::VectorXcd x = inverseIteration(A, m, eps, report.iterations);
+    return x;
 }
 
 } // namespace
 
-SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
+SmoothestResult smoothestField(const TangentFrames &frames, int nSym, const SmoothestOptions &options) {
     const Mesh &mesh = frames.mesh();
     const int n = mesh.nVertices();
     SmoothestResult out;
@@ -308,12 +447,26 @@ SmoothestResult smoothestField(const TangentFrames &frames, int nSym) {
         Eigen::VectorXd mc(nFree);
         for (int v = 0; v < n; ++v)
             if (freeId[v] >= 0) mc[freeId[v]] = m[v];
-        int iterations = 0;
-        const Eigen::VectorXcd xc = lowestEigenvector(frames, nSym, freeId, Ac, mc, iterations);
-        out.iterations = std::max(out.iterations, iterations);
+        EigenSolveReport component;
+        const Eigen::VectorXcd xc = lowestEigenvector(frames, nSym, freeId, Ac, mc, options, component);
+        // The report keeps the slowest component's method and every fallback reason.
+        if (out.solver.method.empty() || component.method == "inverse-iteration" ||
+            (component.method == "lobpcg" && out.solver.method == "dense"))
+            out.solver.method = component.method;
+        out.solver.iterations = std::max(out.solver.iterations, component.iterations);
+        out.solver.lobpcgIterations = std::max(out.solver.lobpcgIterations, component.lobpcgIterations);
+        if (!component.fallbackReason.empty())
+            out.solver.fallbackReason +=
+                (out.solver.fallbackReason.empty() ? "" : "; ") +
+                (nComp > 1 ? fmt::format("component {}: ", c) : std::string()) + component.fallbackReason;
         for (int v = 0; v < n; ++v)
             if (freeId[v] >= 0) x[v] = xc[freeId[v]];
     }
+    out.iterations = out.solver.iterations;
+    if (!out.solver.fallbackReason.empty())
+        warn(mesh.name(), "smoothest-fallback",
+             out.solver.fallbackReason + "; used inverse iteration on a sparse factorization instead (" +
+                 std::to_string(out.solver.iterations) + " iterations, slower)");
     out.eigenvalue = std::real(x.dot(A * x)) / std::real(x.dot(m.cast<Complex>().cwiseProduct(x)));
     normalizeMax(x);
     out.field.u = x;

@@ -13,6 +13,7 @@
 #include "field/sparse_solver.h"
 
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace rosy::field {
@@ -33,20 +34,51 @@ void relaxationSmooth(const TangentFrames &frames, RosyField &field, int iterati
                       double strength, const std::vector<char> &fixed = {},
                       LaplaceWeights weights = LaplaceWeights::MeanValue);
 
+/// How smoothestField() found its eigenvector: data, not an exception, since a
+/// fallback still gives the right field, only slower.
+struct EigenSolveReport {
+    /// "dense" (tiny components), "lobpcg", "block-lobpcg" (single-vector LOBPCG
+    /// stalled and a block of SmoothestOptions::blockSize continued it), or
+    /// "inverse-iteration" (the slow fallback); with several components, the
+    /// slowest one's.
+    std::string method;
+    int iterations = 0;       ///< of the method that produced the field (max over components)
+    int lobpcgIterations = 0; ///< LOBPCG's, also when it gave up (max over components)
+    /// Why LOBPCG gave up (no convergence with its residual, a failed coarse
+    /// factorization, a non-finite residual); empty when it did not.
+    std::string fallbackReason;
+};
+
+/// Iteration limits of smoothestField()'s eigen-solve (tests and benchmarks
+/// lower them to exercise the later stages on small meshes).
+struct SmoothestOptions {
+    /// Single-vector LOBPCG iterations before it counts as stalled.
+    int lobpcgIterations = 400;
+    /// Block size of the block LOBPCG that continues a stalled solve from where it
+    /// stopped (0: go straight to inverse iteration), and its iteration limit.
+    int blockSize = 2;
+    int blockIterations = 400;
+};
+
 struct SmoothestResult {
     RosyField field;  ///< unit-M-norm eigenvector, rescaled so max |u_v| = 1
     double eigenvalue = 0; ///< Rayleigh quotient uᴴAu / uᴴMu (0 for a flat torus)
-    int iterations = 0;
+    int iterations = 0;    ///< = solver.iterations
+    EigenSolveReport solver;
 };
 
 /// Globally smoothest N-RoSy (Knöppel et al. 2013): smallest eigenvector of the
 /// generalized problem A u = λ M u, per mesh component, by LOBPCG with the
 /// two-level preconditioner (started from the coarse eigenvector), stopped at a
-/// residual of 1e-3 λ (eigenvalue error quadratic in it, ~1e-6 λ²/gap); inverse power
-/// iteration on one sparse factorization is the fallback if it stalls.
+/// residual of 1e-3 λ (eigenvalue error quadratic in it, ~1e-6 λ²/gap). If it
+/// stalls (clustered small eigenvalues on noisy scans), block LOBPCG continues
+/// from its last iterate; inverse power iteration on one sparse factorization is
+/// the last fallback, never
+/// silently: a `smoothest-fallback` warning names the mesh and the reason, and
+/// SmoothestResult::solver records it.
 /// \throws InputError for a component of zero total area; SolverFailure
 /// naming the cause if a factorization fails.
-SmoothestResult smoothestField(const TangentFrames &frames, int nSym);
+SmoothestResult smoothestField(const TangentFrames &frames, int nSym, const SmoothestOptions &options = {});
 
 /// The accepted smoothing lengths of alignedField() (0, the raw guide, is handled
 /// by the caller): below 1e-6 s = 1 / (ℓ d)² leaves double range.

@@ -1,6 +1,7 @@
 // Field solvers against independent references: the connection Laplacian
 // against its defining energy, the two-level Krylov solvers against sparse
 // direct solves, the smoothest field's eigen-solver against dense eigenvalues.
+#include "core/diagnostics.h"
 #include "field/curvature.h"
 #include "field/design.h"
 #include "field/field_builder.h"
@@ -223,4 +224,48 @@ TEST(Solver, DefaultToleranceMatchesTheConvergedFieldForTheAlignedSystemWithElem
     const RosyField tight = alignedField(fr, guide, 0.05, fixed, values, 1e-10);
     EXPECT_LT(maxDirectionDifferenceDeg(fast, tight), 0.1);
     expectSameSingularities(fr, fast, tight);
+}
+
+// A stalled single-vector LOBPCG (its limit forced down to 2 iterations) is
+// continued by block LOBPCG and still meets the dense eigenvalue within the
+// Kato–Temple bound, without a warning; with the block disabled the inverse
+// iteration fallback runs, is reported with its reason and warned about.
+TEST(SmoothestEigenSolver, StalledLobpcgIsContinuedByABlockOrFallsBackLoudly) {
+    const Mesh m = makeEllipsoid(3, 1.6, 1.2, 0.8);
+    const TangentFrames fr(m);
+    const SparseMatrixC A = connectionLaplacian(fr, 4);
+    const Eigen::VectorXd area = vertexAreas(m);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> dense(Eigen::MatrixXcd(A),
+                                                                      Eigen::MatrixXcd(area.cast<Complex>().asDiagonal()));
+    const double lambda0 = dense.eigenvalues()[0], lambda1 = dense.eigenvalues()[1];
+    SmoothestOptions stalled;
+    stalled.lobpcgIterations = 2;
+    {
+        rosy::WarningCapture capture;
+        SmoothestResult r2, r1;
+        {
+            tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+            r2 = smoothestField(fr, 4, stalled);
+        }
+        EXPECT_EQ(r2.solver.method, "block-lobpcg");
+        EXPECT_GT(r2.solver.iterations, 2);
+        EXPECT_TRUE(r2.solver.fallbackReason.empty()) << r2.solver.fallbackReason;
+        EXPECT_TRUE(capture.warnings().empty());
+        EXPECT_GE(r2.eigenvalue, lambda0 * (1 - 1e-12));
+        EXPECT_LE(r2.eigenvalue - lambda0, std::pow(1e-3 * r2.eigenvalue, 2) / (lambda1 - r2.eigenvalue) * 1.01);
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        r1 = smoothestField(fr, 4, stalled);
+        for (int i = 0; i < m.nVertices(); ++i) ASSERT_EQ(r1.field.u[i], r2.field.u[i]) << i;
+    }
+    SmoothestOptions noBlock = stalled;
+    noBlock.blockSize = 0;
+    rosy::WarningCapture capture;
+    const SmoothestResult r = smoothestField(fr, 4, noBlock);
+    EXPECT_EQ(r.solver.method, "inverse-iteration");
+    EXPECT_EQ(r.solver.lobpcgIterations, 2);
+    EXPECT_NE(r.solver.fallbackReason.find("did not converge in 2 iterations"), std::string::npos)
+        << r.solver.fallbackReason;
+    ASSERT_EQ(capture.warnings().size(), 1u);
+    EXPECT_EQ(capture.warnings()[0].kind, "smoothest-fallback");
+    EXPECT_NEAR(r.eigenvalue, lambda0, 1e-6 * lambda0);
 }
