@@ -41,6 +41,22 @@ ply_binary be > "$out/mesh_ply/tetrahedron_be.ply"
 ply_binary le "nan 0 1" > "$out/mesh_ply/nan_vertex_le.ply"
 head -c 200 "$out/mesh_ply/tetrahedron_le.ply" > "$out/mesh_ply/truncated_le.ply"
 
+# Binary triangle strips (int count, int indices, -1 restarts), both byte orders.
+ply_strips() {
+  local e=$1 fmt=binary_little_endian
+  [ "$e" = be ] && fmt=binary_big_endian
+  printf 'ply\nformat %s 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n' "$fmt"
+  printf 'element tristrips 1\nproperty list int int vertex_indices\nend_header\n'
+  for v in "${tetraV[@]}"; do
+    for c in $v; do if [ "$e" = le ]; then printf "${f32le[$c]}"; else printf "${f32be[$c]}"; fi; done
+  done
+  for i in 12 0 2 1 3 -1 0 1 3 -1 0 3 2; do   # length 12, then three strips: the tetrahedron
+    if [ "$e" = le ]; then printf "$(i32le "$i")"; else printf "$(i32be "$i")"; fi
+  done
+}
+ply_strips le > "$out/mesh_ply/tristrips_le.ply"
+ply_strips be > "$out/mesh_ply/tristrips_be.ply"
+
 # Binary STL: 80-byte header, uint32 count, per triangle normal + 3 vertices + uint16.
 stl_tri() { # three "x y z" corners
   printf "${f32le[0]}${f32le[0]}${f32le[0]}"
