@@ -1,0 +1,100 @@
+// scenes::compareScene() (`rosyhatch compare`'s panels) and renderer::panelSheet()
+// (their layout). Expected values come from the request (panel count, order,
+// labels), Poincaré–Hopf and the layout rule written in panel_sheet.h.
+
+#include "renderer/bitmap_font.h"
+#include "renderer/panel_sheet.h"
+#include "scenes/compare.h"
+#include "scenes/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+using namespace rosy;
+
+namespace {
+
+const std::string kScenePath = std::string(ROSY_SOURCE_DIR) + "/scenes/compare_test.yaml";
+
+const char *kTorus = R"(
+mesh: {primitive: torus, nu: 48, nv: 24}
+camera: {auto: true, resolution: [80, 60]}
+)";
+
+bool startsWith(const std::string &s, const std::string &prefix) { return s.rfind(prefix, 0) == 0; }
+
+} // namespace
+
+TEST(CompareScene, OnePanelPerSymmetryInOrderWithLabelsAndPictures) {
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    scenes::CompareSpec spec;
+    spec.symmetries = {2, 4, 6};
+    const scenes::Comparison c = scenes::compareScene(desc, spec);
+    ASSERT_EQ(c.panels.size(), 3u);
+    const char *prefixes[] = {"(a) 2-RoSy: ", "(b) 4-RoSy: ", "(c) 6-RoSy: "};
+    for (size_t k = 0; k < 3; ++k) {
+        const scenes::ComparePanel &p = c.panels[k];
+        EXPECT_TRUE(startsWith(p.label, prefixes[k])) << p.label;
+        EXPECT_EQ(p.field.nSym, spec.symmetries[k]);
+        EXPECT_EQ(p.singularities.indexNumeratorSum, 0); // Poincaré–Hopf, torus: χ = 0
+        EXPECT_EQ(p.picture.width, 80);
+        EXPECT_EQ(p.picture.height, 60);
+        EXPECT_GE(p.seamFraction, 0.0); // measured: hatching panels
+    }
+    std::vector<std::string> stages;
+    for (const auto &[stage, ms] : c.timingsMs) stages.push_back(stage);
+    EXPECT_EQ(stages, (std::vector<std::string>{"load", "frames", "fields", "bvh", "panels"}));
+}
+
+TEST(CompareScene, VariantsKeepTheirOrderAndFieldPicturesHaveNoInkFigures) {
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    scenes::CompareSpec spec;
+    using V = scenes::CompareSpec::Variant;
+    spec.variants = {V::Smoothed, V::Original};
+    spec.smoothIterations = 3;
+    spec.fieldPictures = true;
+    const scenes::Comparison c = scenes::compareScene(desc, spec);
+    ASSERT_EQ(c.panels.size(), 2u);
+    EXPECT_TRUE(startsWith(c.panels[0].label, "(a) 4-RoSy, smoothed 3x: ")) << c.panels[0].label;
+    EXPECT_TRUE(startsWith(c.panels[1].label, "(b) 4-RoSy: ")) << c.panels[1].label;
+    for (const scenes::ComparePanel &p : c.panels) {
+        EXPECT_NE(p.seamFraction, p.seamFraction); // NaN: a field picture has no ink to measure
+        EXPECT_EQ(p.picture.width, 80);
+    }
+}
+
+TEST(PanelSheet, LaysPanelsOutWithGapsAndInksTheLabelsUnderneath) {
+    // Two 40 x 20 panels, red and blue: gap = max(4, 20 / 32) = 4, font scale
+    // max(1, round(20 * 0.025 / 7)) = 1, one label line of (9 + 2) px, band 11 + 4.
+    renderer::Image red(40, 20, {"R", "G", "B"}), blue(40, 20, {"R", "G", "B"});
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 40; ++x) {
+            red.at(x, y, 0) = 1.0f;
+            blue.at(x, y, 2) = 1.0f;
+        }
+    const std::array<float, 3> paper{1, 1, 1}, ink{0, 0, 0};
+    const renderer::Image sheet = renderer::panelSheet({red, blue}, {"ab", "c"}, paper, ink);
+    EXPECT_EQ(sheet.width, 2 * 40 + 3 * 4);
+    EXPECT_EQ(sheet.height, 20 + 2 * 4 + 11 + 4);
+    EXPECT_EQ(sheet.at(2, 10, 0), 1.0f); // left gap: paper
+    EXPECT_EQ(sheet.at(2, 10, 2), 1.0f);
+    EXPECT_EQ(sheet.at(4 + 20, 4 + 10, 0), 1.0f); // inside panel a: red
+    EXPECT_EQ(sheet.at(4 + 20, 4 + 10, 2), 0.0f);
+    EXPECT_EQ(sheet.at(8 + 40 + 20, 4 + 10, 0), 0.0f); // inside panel b: blue
+    EXPECT_EQ(sheet.at(8 + 40 + 20, 4 + 10, 2), 1.0f);
+    // Ink under each panel, within its columns only.
+    auto inkIn = [&](int x0, int x1) {
+        int n = 0;
+        for (int y = 4 + 20; y < sheet.height; ++y)
+            for (int x = x0; x < x1; ++x) n += sheet.at(x, y, 0) == 0.0f;
+        return n;
+    };
+    EXPECT_GT(inkIn(4, 44), 0);
+    EXPECT_GT(inkIn(48, 88), 0);
+    EXPECT_EQ(inkIn(44, 48), 0);
+    EXPECT_EQ(renderer::textWidthPx("ab", 1), 11); // 2 glyphs at a 6 px advance, no trailing gap
+    EXPECT_EQ(renderer::textWidthPx("", 3), 0);
+}
