@@ -8,6 +8,7 @@
 #include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
+#include <fmt/format.h>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -105,8 +106,8 @@ void elementConstraints(const TangentFrames &frames, int nSym,
         SnappedElement snap = snapToSurface(mesh, el.position);
         if (snap.face < 0 || snap.distance > defaults.maxSnapDistance * diag)
             throw InputError(loc, "design element at " + fmtPoint(el.position) + " is " +
-                                      std::to_string(snap.distance) +
-                                      " units from the surface (mesh size " + std::to_string(diag) + ")",
+                                      fmt::format("{:.3g} units from the surface (mesh size {:.3g})",
+                                                  snap.distance, diag),
                              "place it on the surface");
         const int f = snap.face;
         if (mesh.faceArea(f) <= 1e-14 * diag * diag)

@@ -2,6 +2,7 @@
 
 #include "core/parallel.h"
 
+#include <fmt/format.h>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
@@ -349,7 +350,7 @@ Eigen::VectorXcd solvePcg(const SparseMatrixC &K, const TwoLevelPreconditioner &
     if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, pre.coarseSize()};
     if (!(rNorm <= target) || !x.allFinite())
         throw SolverFailure("two-level PCG did not converge in " + std::to_string(maxIterations) +
-                            " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
+                            " iterations (relative residual " + fmt::format("{:.3g}", rNorm / bNorm) + ")");
     return x;
 }
 
@@ -401,7 +402,7 @@ Eigen::VectorXcd solveTwoLevelBicgstab(const TangentFrames &frames, int nSym, co
     if (report) *report = {it, bNorm > 0 ? rNorm / bNorm : rNorm, pre.coarseSize()};
     if (!(rNorm <= target) || !x.allFinite())
         throw SolverFailure("two-level BiCGSTAB did not converge in " + std::to_string(maxIterations) +
-                            " iterations (relative residual " + std::to_string(rNorm / bNorm) + ")");
+                            " iterations (relative residual " + fmt::format("{:.3g}", rNorm / bNorm) + ")");
     return x;
 }
 
