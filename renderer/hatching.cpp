@@ -96,7 +96,8 @@ public:
     SampleGrid(int width, int height, double cellPx)
         : m_cell(cellPx), m_nx(std::max(1, int(std::ceil(width / cellPx)))),
           m_ny(std::max(1, int(std::ceil(height / cellPx)))), m_cells(size_t(m_nx) * size_t(m_ny)),
-          m_cellMaxR(m_cells.size(), 0.0) {}
+          m_cellMaxR(m_cells.size(), 0.0), m_bnx((m_nx + kBlock - 1) / kBlock), m_bny((m_ny + kBlock - 1) / kBlock),
+          m_blockMaxR(size_t(m_bnx) * size_t(m_bny), 0.0) {}
 
     void add(const Sample &s) {
         const size_t c = cellOf(s.p);
@@ -105,6 +106,8 @@ public:
         // Maxima only grow: after a rejected stroke is popped they stay an upper
         // bound, which is all anyWithin() needs.
         m_cellMaxR[c] = std::max(m_cellMaxR[c], s.dTest);
+        double &blockMax = m_blockMaxR[blockOf(c)];
+        blockMax = std::max(blockMax, s.dTest);
         m_maxR = std::max(m_maxR, s.dTest);
     }
     void popBack() {
@@ -113,24 +116,43 @@ public:
     }
 
     /// Calls f(sample) for every sample that may lie within max(r, sample.dTest) of p,
-    /// until f returns true. Cells whose samples all have a small d_test are pruned by
-    /// their distance, so a wide query radius only costs where large d_test exist.
+    /// until f returns true; f must not depend on the order of the calls. Blocks of
+    /// kBlock² cells, then cells, whose samples all have a small d_test are pruned by
+    /// their distance, so a wide query radius (light tone somewhere in the image) only
+    /// costs where large d_test exist: in dark tone a query reads a few cells, not the
+    /// 9 × 9 that the lightest d_test spans.
     template <typename F> bool anyWithin(const Vec2 &p, double r, F &&f) const {
         const double big = std::max(r, m_maxR);
-        const int x0 = std::max(0, int(std::floor((p.x() - big) / m_cell)));
-        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + big) / m_cell)));
-        const int y0 = std::max(0, int(std::floor((p.y() - big) / m_cell)));
-        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + big) / m_cell)));
-        for (int cy = y0; cy <= y1; ++cy) {
-            const double dy = std::max({0.0, cy * m_cell - p.y(), p.y() - (cy + 1) * m_cell});
-            for (int cx = x0; cx <= x1; ++cx) {
-                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
-                if (m_cells[c].empty()) continue;
-                const double dx = std::max({0.0, cx * m_cell - p.x(), p.x() - (cx + 1) * m_cell});
-                const double reach = std::max(r, m_cellMaxR[c]);
-                if (dx * dx + dy * dy >= reach * reach) continue;
-                for (const Sample &s : m_cells[c])
-                    if (f(s)) return true;
+        const double blockPx = m_cell * kBlock, invBlock = 1.0 / blockPx, invCell = 1.0 / m_cell;
+        const int bx0 = std::max(0, int(std::floor((p.x() - big) * invBlock)));
+        const int bx1 = std::min(m_bnx - 1, int(std::floor((p.x() + big) * invBlock)));
+        const int by0 = std::max(0, int(std::floor((p.y() - big) * invBlock)));
+        const int by1 = std::min(m_bny - 1, int(std::floor((p.y() + big) * invBlock)));
+        for (int by = by0; by <= by1; ++by) {
+            const double dyb = gap(p.y(), by * blockPx, blockPx);
+            const double *blockMax = &m_blockMaxR[size_t(by) * size_t(m_bnx)];
+            for (int bx = bx0; bx <= bx1; ++bx) {
+                const double reachB = std::max(r, blockMax[bx]);
+                const double dxb = gap(p.x(), bx * blockPx, blockPx);
+                if (dxb * dxb + dyb * dyb >= reachB * reachB) continue;
+                // Cells of the block that overlap the square of half-side reachB around p.
+                const int x0 = std::max(bx * kBlock, int(std::floor((p.x() - reachB) * invCell)));
+                const int x1 = std::min({(bx + 1) * kBlock - 1, m_nx - 1, int(std::floor((p.x() + reachB) * invCell))});
+                const int y0 = std::max(by * kBlock, int(std::floor((p.y() - reachB) * invCell)));
+                const int y1 = std::min({(by + 1) * kBlock - 1, m_ny - 1, int(std::floor((p.y() + reachB) * invCell))});
+                for (int cy = y0; cy <= y1; ++cy) {
+                    const double dy = gap(p.y(), cy * m_cell, m_cell);
+                    const size_t row = size_t(cy) * size_t(m_nx);
+                    for (int cx = x0; cx <= x1; ++cx) {
+                        const std::vector<Sample> &cell = m_cells[row + size_t(cx)];
+                        if (cell.empty()) continue;
+                        const double dx = gap(p.x(), cx * m_cell, m_cell);
+                        const double reach = std::max(r, m_cellMaxR[row + size_t(cx)]);
+                        if (dx * dx + dy * dy >= reach * reach) continue;
+                        for (const Sample &s : cell)
+                            if (f(s)) return true;
+                    }
+                }
             }
         }
         return false;
@@ -151,6 +173,13 @@ public:
     }
 
 private:
+    /// Distance from coordinate v to the interval [lo, lo + size] (0 inside).
+    static double gap(double v, double lo, double size) { return std::max(0.0, std::max(lo - v, v - (lo + size))); }
+    static constexpr int kBlock = 4; // cells per block side for anyWithin()'s first pruning
+    size_t blockOf(size_t cell) const {
+        const int cx = int(cell % size_t(m_nx)), cy = int(cell / size_t(m_nx));
+        return size_t(cy / kBlock) * size_t(m_bnx) + size_t(cx / kBlock);
+    }
     size_t cellOf(const Vec2 &p) const {
         const int cx = std::clamp(int(std::floor(p.x() / m_cell)), 0, m_nx - 1);
         const int cy = std::clamp(int(std::floor(p.y() / m_cell)), 0, m_ny - 1);
@@ -160,6 +189,8 @@ private:
     int m_nx, m_ny;
     std::vector<std::vector<Sample>> m_cells; // samples stored by cell: queries read them in order
     std::vector<double> m_cellMaxR; // upper bound of the samples' d_test per cell
+    int m_bnx, m_bny;
+    std::vector<double> m_blockMaxR; // the same per block of kBlock x kBlock cells
     double m_maxR = 0;
     std::vector<uint32_t> m_order; // cell of each sample, in insertion order (for popBack)
 };
@@ -213,6 +244,11 @@ public:
             const size_t i = size_t(ii);
             const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
             m_crossWeight[i] = float(w);
+            // Untoned pixels (paper, background) have no coverage: the sparsest spacing.
+            if (hatchFamilies(densityAt(int(i)), style) == 0) {
+                m_spacing[0][i] = m_spacing[1][i] = std::max(style.minSpacingPx, style.maxSpacingPx);
+                return;
+            }
             for (int f = 0; f < 2; ++f) m_spacing[f][i] = familySpacingPx(densityAt(int(i)), f, style, w);
         }, 4096);
         m_discs = singularityDiscs(field, density, style, 1.0);
@@ -230,6 +266,7 @@ public:
 
     void traceFamily(int family) {
         m_family = family;
+        m_firstFamilyOnly = family == 0;
         // Scan seeds fill what propagation from accepted lines leaves empty; the scan
         // is row-major so the result is deterministic.
         const double stride = std::max(1.0, m_style.minSpacingPx);
@@ -251,6 +288,7 @@ public:
     /// directions with that clearance (lines still keep d_test from their neighbours).
     void fillHoles() {
         m_family = 0;
+        m_firstFamilyOnly = false;
         m_seedClearance = kFillClearance;
         m_minLengthRatio = kFillMinLengthRatio;
         const double stride = std::max(1.0, m_style.minSpacingPx);
@@ -351,17 +389,41 @@ private:
     /// Same family = tangent within 45° (mod π); where only one family is wanted,
     /// every family-0 sample counts for family 0, so mid-tones never cross.
     bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
-        return m_grid.anyWithin(q, r, [&](const Sample &s) {
-            const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
-            if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
-            // The larger of the two points' d_test: measureHatches() takes the smaller at
-            // either end, so the tracer is never the more lenient where tone changes.
-            const double rr = std::max(r, s.dTest);
-            if ((s.p - q).squaredNorm() >= rr * rr) return false;
-            const double selfSkip = 2.0 * rr;
-            if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
-            return sameDirection || s.family == 0 || s.family == m_family;
+        return m_grid.anyWithin(q, r, [&](const Sample &s) { return blocks(s, q, t, r, stroke, arc, singleTone); });
+    }
+
+    /// Sample s keeps q (heading t, own d_test r) away: the test of tooClose().
+    bool blocks(const Sample &s, const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
+        const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
+        if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
+        // The larger of the two points' d_test: measureHatches() takes the smaller at
+        // either end, so the tracer is never the more lenient where tone changes.
+        const double rr = std::max(r, s.dTest);
+        if ((s.p - q).squaredNorm() >= rr * rr) return false;
+        const double selfSkip = 2.0 * rr;
+        if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
+        return sameDirection || s.family == 0 || s.family == m_family;
+    }
+
+    /// tooClose() for a seed (no stroke of its own). Seeds beside a parent line come in
+    /// a row one step apart and are mostly rejected by the same neighbouring line, so
+    /// the last two samples that rejected one are tried first. The answer is the same
+    /// (some sample blocks or none does); cached samples are dropped whenever samples
+    /// are removed from the grid, so a cached sample is always still in it.
+    bool seedTooClose(const Vec2 &q, const Vec2 &t, double r, bool singleTone) {
+        for (int k = 0; k < m_nBlockers; ++k)
+            if (blocks(m_blockers[k], q, t, r, -1, 0.0, singleTone)) return true;
+        const Sample *hit = nullptr;
+        m_grid.anyWithin(q, r, [&](const Sample &s) {
+            if (!blocks(s, q, t, r, -1, 0.0, singleTone)) return false;
+            hit = &s;
+            return true;
         });
+        if (!hit) return false;
+        m_blockers[1] = m_blockers[0];
+        m_blockers[0] = *hit;
+        m_nBlockers = std::min(m_nBlockers + 1, 2);
+        return true;
     }
 
     /// Where the tone asks for one family, or the two screen directions have folded
@@ -414,12 +476,19 @@ private:
     bool trySeed(const Vec2 &q, const Vec2 &heading) {
         drawThreshold();
         if (!eligible(q)) return false;
-        Vec2 dir;
-        if (!direction(q, heading, dir)) return false;
         const int i = pixelIndex(q);
         // Slightly under d_sep: a seed placed at exactly d_sep from its parent must not
         // be rejected by its own parent through rounding.
-        if (tooClose(q, dir, m_seedClearance * spacingAt(i), -1, 0, singleTone(i))) return false;
+        const double clearance = m_seedClearance * spacingAt(i);
+        const bool single = singleTone(i);
+        // While only first-family lines exist, single tone blocks on every line near
+        // whatever the seed's direction: test that before the field lookup, which most
+        // seeds beside a parent line (rejected) would otherwise pay for.
+        const bool directionFree = single && m_firstFamilyOnly;
+        if (directionFree && seedTooClose(q, heading, clearance, true)) return false;
+        Vec2 dir;
+        if (!direction(q, heading, dir)) return false;
+        if (!directionFree && seedTooClose(q, dir, clearance, single)) return false;
         return traceStroke(q, dir);
     }
 
@@ -500,6 +569,7 @@ private:
         const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.size() > before) m_grid.popBack();
+            m_nBlockers = 0; // they may have been among the removed samples
             return false;
         }
         Stroke stroke;
@@ -541,18 +611,21 @@ private:
             }
         // One pixel of guard band (8-neighbourhood) keeps stroke centres a pixel away
         // from the background, so a stroke's width stays on the object.
+        // Separable: a horizontal then a vertical 3-tap maximum; the image border counts as edge.
+        std::vector<uint8_t> rows(edge.size(), 0);
+        parallelFor(0, h, [&](int64_t y) {
+            const uint8_t *e = &edge[size_t(y) * size_t(w)];
+            uint8_t *o = &rows[size_t(y) * size_t(w)];
+            for (int x = 0; x < w; ++x)
+                o[x] = uint8_t((x == 0 || e[x - 1]) | e[x] | (x + 1 == w || e[x + 1]));
+        }, 8);
         m_blocked.assign(edge.size(), 0);
         parallelFor(0, h, [&](int64_t y) {
-            for (int x = 0; x < w; ++x) {
-                uint8_t b = 0;
-                for (int dy = -1; dy <= 1 && !b; ++dy)
-                    for (int dx = -1; dx <= 1 && !b; ++dx) {
-                        const int xx = x + dx, yy = int(y) + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) b = 1;
-                        else b = edge[size_t(yy) * size_t(w) + size_t(xx)];
-                    }
-                m_blocked[size_t(y) * size_t(w) + size_t(x)] = b;
-            }
+            const uint8_t *up = y > 0 ? &rows[size_t(y - 1) * size_t(w)] : nullptr;
+            const uint8_t *mid = &rows[size_t(y) * size_t(w)];
+            const uint8_t *down = y + 1 < h ? &rows[size_t(y + 1) * size_t(w)] : nullptr;
+            uint8_t *o = &m_blocked[size_t(y) * size_t(w)];
+            for (int x = 0; x < w; ++x) o[x] = uint8_t((!up || up[x]) | mid[x] | (!down || down[x]));
         }, 8);
     }
 
@@ -569,6 +642,9 @@ private:
     double m_offCos = 1, m_offSin = 0;
     bool m_rotated = false;
     int m_family = 0;
+    bool m_firstFamilyOnly = true; // no line of the second family traced yet
+    Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)
+    int m_nBlockers = 0;
     double m_seedClearance = kSeedClearance;
     double m_minLengthRatio = kStubLengthRatio; // shortest stroke kept, in d_sep
     double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
