@@ -102,6 +102,7 @@ public:
     void add(const Sample &s) {
         const size_t c = cellOf(s.p);
         m_cells[c].push_back(s);
+        ++m_count[s.family != 0][c];
         m_order.push_back(uint32_t(c));
         // Maxima only grow: after a rejected stroke is popped they stay an upper
         // bound, which is all anyWithin() needs.
@@ -111,6 +112,7 @@ public:
         m_maxR = std::max(m_maxR, s.dTest);
     }
     void popBack() {
+        --m_count[m_cells[m_order.back()].back().family != 0][m_order.back()];
         m_cells[m_order.back()].pop_back();
         m_order.pop_back();
     }
@@ -159,6 +161,38 @@ public:
     }
     size_t size() const { return m_order.size(); }
 
+    /// The nearest sample closer than r to p whose family is (same) or is not (!same)
+    /// `family`; among equally near ones the first in any()'s order. Cells without such
+    /// samples, or none nearer than the best so far, are skipped. nullptr if none.
+    const Sample *nearest(const Vec2 &p, double r, int family, bool same) const {
+        const std::vector<uint32_t> &count = m_count[(family != 0) == same ? 1 : 0];
+        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        const Sample *best = nullptr;
+        double bestD = r * r;
+        for (int cy = y0; cy <= y1; ++cy) {
+            const double dy = gap(p.y(), cy * m_cell, m_cell);
+            if (dy * dy >= bestD) continue;
+            for (int cx = x0; cx <= x1; ++cx) {
+                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
+                if (count[c] == 0) continue;
+                const double dx = gap(p.x(), cx * m_cell, m_cell);
+                if (dx * dx + dy * dy >= bestD) continue;
+                for (const Sample &s : m_cells[c]) {
+                    if ((s.family == family) != same) continue;
+                    const double d2 = (s.p - p).squaredNorm();
+                    if (d2 < bestD) {
+                        bestD = d2;
+                        best = &s;
+                    }
+                }
+            }
+        }
+        return best;
+    }
+
     /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
     template <typename F> bool any(const Vec2 &p, double r, F &&f) const {
         const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
@@ -193,6 +227,8 @@ private:
     std::vector<double> m_blockMaxR; // the same per block of kBlock x kBlock cells
     double m_maxR = 0;
     std::vector<uint32_t> m_order; // cell of each sample, in insertion order (for popBack)
+    std::vector<uint32_t> m_count[2] = {std::vector<uint32_t>(m_cells.size(), 0),
+                                        std::vector<uint32_t>(m_cells.size(), 0)}; // per cell: family 0, other families
 };
 
 struct Disc {
@@ -488,18 +524,11 @@ private:
                 return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
             }))
             return false;
+        // The nearest line of the same family within 2 d_sep gives the heading; else
+        // the nearest of the other family (only looked for then).
         const double r = 2.0 * dSep;
-        const Sample *best[2] = {nullptr, nullptr};
-        double bestD[2] = {r * r, r * r};
-        m_grid.any(q, r, [&](const Sample &s) {
-            const double d2 = (s.p - q).squaredNorm();
-            const int k = s.family == m_family ? 0 : 1;
-            if (d2 < bestD[k]) {
-                bestD[k] = d2;
-                best[k] = &s;
-            }
-            return false;
-        });
+        const Sample *best[2] = {m_grid.nearest(q, r, m_family, true), nullptr};
+        if (!best[0]) best[1] = m_grid.nearest(q, r, m_family, false);
         const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)], &d1 = m_field.dir1[size_t(i)];
         Vec2 label = Vec2(m_family == 0 ? d0.x() : d1.x(), m_family == 0 ? d0.y() : d1.y());
         if (m_rotated) label = rotate(label, m_offCos, m_offSin);
