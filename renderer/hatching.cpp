@@ -96,46 +96,102 @@ public:
     SampleGrid(int width, int height, double cellPx)
         : m_cell(cellPx), m_nx(std::max(1, int(std::ceil(width / cellPx)))),
           m_ny(std::max(1, int(std::ceil(height / cellPx)))), m_cells(size_t(m_nx) * size_t(m_ny)),
-          m_cellMaxR(m_cells.size(), 0.0) {}
+          m_cellMaxR(m_cells.size(), 0.0), m_bnx((m_nx + kBlock - 1) / kBlock), m_bny((m_ny + kBlock - 1) / kBlock),
+          m_blockMaxR(size_t(m_bnx) * size_t(m_bny), 0.0) {}
 
     void add(const Sample &s) {
         const size_t c = cellOf(s.p);
         m_cells[c].push_back(s);
+        ++m_count[s.family != 0][c];
         m_order.push_back(uint32_t(c));
         // Maxima only grow: after a rejected stroke is popped they stay an upper
         // bound, which is all anyWithin() needs.
         m_cellMaxR[c] = std::max(m_cellMaxR[c], s.dTest);
+        double &blockMax = m_blockMaxR[blockOf(c)];
+        blockMax = std::max(blockMax, s.dTest);
         m_maxR = std::max(m_maxR, s.dTest);
     }
     void popBack() {
+        --m_count[m_cells[m_order.back()].back().family != 0][m_order.back()];
         m_cells[m_order.back()].pop_back();
         m_order.pop_back();
     }
 
     /// Calls f(sample) for every sample that may lie within max(r, sample.dTest) of p,
-    /// until f returns true. Cells whose samples all have a small d_test are pruned by
-    /// their distance, so a wide query radius only costs where large d_test exist.
+    /// until f returns true; f must not depend on the order of the calls. Blocks of
+    /// kBlock² cells, then cells, whose samples all have a small d_test are pruned by
+    /// their distance, so a wide query radius (light tone somewhere in the image) only
+    /// costs where large d_test exist: in dark tone a query reads a few cells, not the
+    /// 9 × 9 that the lightest d_test spans.
     template <typename F> bool anyWithin(const Vec2 &p, double r, F &&f) const {
         const double big = std::max(r, m_maxR);
-        const int x0 = std::max(0, int(std::floor((p.x() - big) / m_cell)));
-        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + big) / m_cell)));
-        const int y0 = std::max(0, int(std::floor((p.y() - big) / m_cell)));
-        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + big) / m_cell)));
-        for (int cy = y0; cy <= y1; ++cy) {
-            const double dy = std::max({0.0, cy * m_cell - p.y(), p.y() - (cy + 1) * m_cell});
-            for (int cx = x0; cx <= x1; ++cx) {
-                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
-                if (m_cells[c].empty()) continue;
-                const double dx = std::max({0.0, cx * m_cell - p.x(), p.x() - (cx + 1) * m_cell});
-                const double reach = std::max(r, m_cellMaxR[c]);
-                if (dx * dx + dy * dy >= reach * reach) continue;
-                for (const Sample &s : m_cells[c])
-                    if (f(s)) return true;
+        const double blockPx = m_cell * kBlock, invBlock = 1.0 / blockPx, invCell = 1.0 / m_cell;
+        const int bx0 = std::max(0, int(std::floor((p.x() - big) * invBlock)));
+        const int bx1 = std::min(m_bnx - 1, int(std::floor((p.x() + big) * invBlock)));
+        const int by0 = std::max(0, int(std::floor((p.y() - big) * invBlock)));
+        const int by1 = std::min(m_bny - 1, int(std::floor((p.y() + big) * invBlock)));
+        for (int by = by0; by <= by1; ++by) {
+            const double dyb = gap(p.y(), by * blockPx, blockPx);
+            const double *blockMax = &m_blockMaxR[size_t(by) * size_t(m_bnx)];
+            for (int bx = bx0; bx <= bx1; ++bx) {
+                const double reachB = std::max(r, blockMax[bx]);
+                const double dxb = gap(p.x(), bx * blockPx, blockPx);
+                if (dxb * dxb + dyb * dyb >= reachB * reachB) continue;
+                // Cells of the block that overlap the square of half-side reachB around p.
+                const int x0 = std::max(bx * kBlock, int(std::floor((p.x() - reachB) * invCell)));
+                const int x1 = std::min({(bx + 1) * kBlock - 1, m_nx - 1, int(std::floor((p.x() + reachB) * invCell))});
+                const int y0 = std::max(by * kBlock, int(std::floor((p.y() - reachB) * invCell)));
+                const int y1 = std::min({(by + 1) * kBlock - 1, m_ny - 1, int(std::floor((p.y() + reachB) * invCell))});
+                for (int cy = y0; cy <= y1; ++cy) {
+                    const double dy = gap(p.y(), cy * m_cell, m_cell);
+                    const size_t row = size_t(cy) * size_t(m_nx);
+                    for (int cx = x0; cx <= x1; ++cx) {
+                        const std::vector<Sample> &cell = m_cells[row + size_t(cx)];
+                        if (cell.empty()) continue;
+                        const double dx = gap(p.x(), cx * m_cell, m_cell);
+                        const double reach = std::max(r, m_cellMaxR[row + size_t(cx)]);
+                        if (dx * dx + dy * dy >= reach * reach) continue;
+                        for (const Sample &s : cell)
+                            if (f(s)) return true;
+                    }
+                }
             }
         }
         return false;
     }
     size_t size() const { return m_order.size(); }
+
+    /// The nearest sample closer than r to p whose family is (same) or is not (!same)
+    /// `family`; among equally near ones the first in any()'s order. Cells without such
+    /// samples, or none nearer than the best so far, are skipped. nullptr if none.
+    const Sample *nearest(const Vec2 &p, double r, int family, bool same) const {
+        const std::vector<uint32_t> &count = m_count[(family != 0) == same ? 1 : 0];
+        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        const Sample *best = nullptr;
+        double bestD = r * r;
+        for (int cy = y0; cy <= y1; ++cy) {
+            const double dy = gap(p.y(), cy * m_cell, m_cell);
+            if (dy * dy >= bestD) continue;
+            for (int cx = x0; cx <= x1; ++cx) {
+                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
+                if (count[c] == 0) continue;
+                const double dx = gap(p.x(), cx * m_cell, m_cell);
+                if (dx * dx + dy * dy >= bestD) continue;
+                for (const Sample &s : m_cells[c]) {
+                    if ((s.family == family) != same) continue;
+                    const double d2 = (s.p - p).squaredNorm();
+                    if (d2 < bestD) {
+                        bestD = d2;
+                        best = &s;
+                    }
+                }
+            }
+        }
+        return best;
+    }
 
     /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
     template <typename F> bool any(const Vec2 &p, double r, F &&f) const {
@@ -151,6 +207,13 @@ public:
     }
 
 private:
+    /// Distance from coordinate v to the interval [lo, lo + size] (0 inside).
+    static double gap(double v, double lo, double size) { return std::max(0.0, std::max(lo - v, v - (lo + size))); }
+    static constexpr int kBlock = 4; // cells per block side for anyWithin()'s first pruning
+    size_t blockOf(size_t cell) const {
+        const int cx = int(cell % size_t(m_nx)), cy = int(cell / size_t(m_nx));
+        return size_t(cy / kBlock) * size_t(m_bnx) + size_t(cx / kBlock);
+    }
     size_t cellOf(const Vec2 &p) const {
         const int cx = std::clamp(int(std::floor(p.x() / m_cell)), 0, m_nx - 1);
         const int cy = std::clamp(int(std::floor(p.y() / m_cell)), 0, m_ny - 1);
@@ -160,8 +223,12 @@ private:
     int m_nx, m_ny;
     std::vector<std::vector<Sample>> m_cells; // samples stored by cell: queries read them in order
     std::vector<double> m_cellMaxR; // upper bound of the samples' d_test per cell
+    int m_bnx, m_bny;
+    std::vector<double> m_blockMaxR; // the same per block of kBlock x kBlock cells
     double m_maxR = 0;
     std::vector<uint32_t> m_order; // cell of each sample, in insertion order (for popBack)
+    std::vector<uint32_t> m_count[2] = {std::vector<uint32_t>(m_cells.size(), 0),
+                                        std::vector<uint32_t>(m_cells.size(), 0)}; // per cell: family 0, other families
 };
 
 struct Disc {
@@ -174,6 +241,8 @@ struct Disc {
 std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<float> &density,
                                    const styles::HatchStyle &style, double shrink) {
     std::vector<Disc> discs;
+    std::vector<double> index;
+    std::vector<uint8_t> crossTone;
     for (const ScreenSingularity &s : field.singularities) {
         if (!s.visible) continue;
         const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
@@ -190,9 +259,52 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
                 if (dx * dx + dy * dy <= r0 * r0)
                     darkest = std::max(darkest, double(clampDensity(density[size_t(field.index(xx, yy))])));
             }
-        discs.push_back({s.pRaster, shrink * localSpacingPx(darkest, style)});
+        discs.push_back({s.pRaster, localSpacingPx(darkest, style)});
+        index.push_back(s.index);
+        crossTone.push_back(darkest >= style.crossDensity);
     }
-    return discs;
+    // In cross-hatched tone, singularities whose discs overlap are one feature at the
+    // drawing's scale: the two families hide the field's structure below a line
+    // spacing. Such a group gets one disc at its mean position, and none when its
+    // indices sum to zero (a +1/4, −1/4 pair leaves the field around it regular).
+    // Scanned fists, lips and hooves carry dense clusters whose separate discs would
+    // clear the whole small dark part of ink (seam_fraction). Where lines are sparse
+    // every singularity shows and keeps its own disc.
+    std::vector<int> parent(discs.size());
+    for (size_t k = 0; k < parent.size(); ++k) parent[k] = int(k);
+    auto root = [&](int k) {
+        while (parent[size_t(k)] != k) k = parent[size_t(k)] = parent[size_t(parent[size_t(k)])];
+        return k;
+    };
+    // Pairs by a sweep along x: scans carry thousands of singularities.
+    std::vector<int> byX;
+    double maxRadius = 0.0;
+    for (size_t k = 0; k < discs.size(); ++k)
+        if (crossTone[k]) {
+            byX.push_back(int(k));
+            maxRadius = std::max(maxRadius, discs[k].radius);
+        }
+    std::sort(byX.begin(), byX.end(), [&](int a, int b) { return discs[size_t(a)].centre.x() < discs[size_t(b)].centre.x(); });
+    for (size_t i = 0; i < byX.size(); ++i)
+        for (size_t j = i + 1; j < byX.size(); ++j) {
+            const Disc &a = discs[size_t(byX[i])], &b = discs[size_t(byX[j])];
+            if (b.centre.x() - a.centre.x() >= 2.0 * maxRadius) break;
+            const double reach = a.radius + b.radius;
+            if ((a.centre - b.centre).squaredNorm() < reach * reach) parent[size_t(root(byX[i]))] = root(byX[j]);
+        }
+    std::vector<double> net(discs.size(), 0.0), members(discs.size(), 0.0), radius(discs.size(), 0.0);
+    std::vector<Vec2> centre(discs.size(), Vec2::Zero());
+    for (size_t k = 0; k < discs.size(); ++k) {
+        const size_t g = size_t(root(int(k)));
+        net[g] += index[k];
+        members[g] += 1.0;
+        centre[g] += discs[k].centre;
+        radius[g] = std::max(radius[g], discs[k].radius);
+    }
+    std::vector<Disc> kept;
+    for (size_t g = 0; g < discs.size(); ++g)
+        if (members[g] > 0 && std::abs(net[g]) > 1e-6) kept.push_back({centre[g] / members[g], shrink * radius[g]});
+    return kept;
 }
 
 /// The sequential Jobard–Lefer tracer for one image.
@@ -213,6 +325,11 @@ public:
             const size_t i = size_t(ii);
             const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
             m_crossWeight[i] = float(w);
+            // Untoned pixels (paper, background) have no coverage: the sparsest spacing.
+            if (hatchFamilies(densityAt(int(i)), style) == 0) {
+                m_spacing[0][i] = m_spacing[1][i] = std::max(style.minSpacingPx, style.maxSpacingPx);
+                return;
+            }
             for (int f = 0; f < 2; ++f) m_spacing[f][i] = familySpacingPx(densityAt(int(i)), f, style, w);
         }, 4096);
         m_discs = singularityDiscs(field, density, style, 1.0);
@@ -230,6 +347,7 @@ public:
 
     void traceFamily(int family) {
         m_family = family;
+        m_firstFamilyOnly = family == 0;
         // Scan seeds fill what propagation from accepted lines leaves empty; the scan
         // is row-major so the result is deterministic.
         const double stride = std::max(1.0, m_style.minSpacingPx);
@@ -251,6 +369,7 @@ public:
     /// directions with that clearance (lines still keep d_test from their neighbours).
     void fillHoles() {
         m_family = 0;
+        m_firstFamilyOnly = false;
         m_seedClearance = kFillClearance;
         m_minLengthRatio = kFillMinLengthRatio;
         const double stride = std::max(1.0, m_style.minSpacingPx);
@@ -351,17 +470,41 @@ private:
     /// Same family = tangent within 45° (mod π); where only one family is wanted,
     /// every family-0 sample counts for family 0, so mid-tones never cross.
     bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
-        return m_grid.anyWithin(q, r, [&](const Sample &s) {
-            const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
-            if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
-            // The larger of the two points' d_test: measureHatches() takes the smaller at
-            // either end, so the tracer is never the more lenient where tone changes.
-            const double rr = std::max(r, s.dTest);
-            if ((s.p - q).squaredNorm() >= rr * rr) return false;
-            const double selfSkip = 2.0 * rr;
-            if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
-            return sameDirection || s.family == 0 || s.family == m_family;
+        return m_grid.anyWithin(q, r, [&](const Sample &s) { return blocks(s, q, t, r, stroke, arc, singleTone); });
+    }
+
+    /// Sample s keeps q (heading t, own d_test r) away: the test of tooClose().
+    bool blocks(const Sample &s, const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
+        const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
+        if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
+        // The larger of the two points' d_test: measureHatches() takes the smaller at
+        // either end, so the tracer is never the more lenient where tone changes.
+        const double rr = std::max(r, s.dTest);
+        if ((s.p - q).squaredNorm() >= rr * rr) return false;
+        const double selfSkip = 2.0 * rr;
+        if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
+        return sameDirection || s.family == 0 || s.family == m_family;
+    }
+
+    /// tooClose() for a seed (no stroke of its own). Seeds beside a parent line come in
+    /// a row one step apart and are mostly rejected by the same neighbouring line, so
+    /// the last two samples that rejected one are tried first. The answer is the same
+    /// (some sample blocks or none does); cached samples are dropped whenever samples
+    /// are removed from the grid, so a cached sample is always still in it.
+    bool seedTooClose(const Vec2 &q, const Vec2 &t, double r, bool singleTone) {
+        for (int k = 0; k < m_nBlockers; ++k)
+            if (blocks(m_blockers[k], q, t, r, -1, 0.0, singleTone)) return true;
+        const Sample *hit = nullptr;
+        m_grid.anyWithin(q, r, [&](const Sample &s) {
+            if (!blocks(s, q, t, r, -1, 0.0, singleTone)) return false;
+            hit = &s;
+            return true;
         });
+        if (!hit) return false;
+        m_blockers[1] = m_blockers[0];
+        m_blockers[0] = *hit;
+        m_nBlockers = std::min(m_nBlockers + 1, 2);
+        return true;
     }
 
     /// Where the tone asks for one family, or the two screen directions have folded
@@ -381,18 +524,11 @@ private:
                 return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
             }))
             return false;
+        // The nearest line of the same family within 2 d_sep gives the heading; else
+        // the nearest of the other family (only looked for then).
         const double r = 2.0 * dSep;
-        const Sample *best[2] = {nullptr, nullptr};
-        double bestD[2] = {r * r, r * r};
-        m_grid.any(q, r, [&](const Sample &s) {
-            const double d2 = (s.p - q).squaredNorm();
-            const int k = s.family == m_family ? 0 : 1;
-            if (d2 < bestD[k]) {
-                bestD[k] = d2;
-                best[k] = &s;
-            }
-            return false;
-        });
+        const Sample *best[2] = {m_grid.nearest(q, r, m_family, true), nullptr};
+        if (!best[0]) best[1] = m_grid.nearest(q, r, m_family, false);
         const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)], &d1 = m_field.dir1[size_t(i)];
         Vec2 label = Vec2(m_family == 0 ? d0.x() : d1.x(), m_family == 0 ? d0.y() : d1.y());
         if (m_rotated) label = rotate(label, m_offCos, m_offSin);
@@ -414,12 +550,19 @@ private:
     bool trySeed(const Vec2 &q, const Vec2 &heading) {
         drawThreshold();
         if (!eligible(q)) return false;
-        Vec2 dir;
-        if (!direction(q, heading, dir)) return false;
         const int i = pixelIndex(q);
         // Slightly under d_sep: a seed placed at exactly d_sep from its parent must not
         // be rejected by its own parent through rounding.
-        if (tooClose(q, dir, m_seedClearance * spacingAt(i), -1, 0, singleTone(i))) return false;
+        const double clearance = m_seedClearance * spacingAt(i);
+        const bool single = singleTone(i);
+        // While only first-family lines exist, single tone blocks on every line near
+        // whatever the seed's direction: test that before the field lookup, which most
+        // seeds beside a parent line (rejected) would otherwise pay for.
+        const bool directionFree = single && m_firstFamilyOnly;
+        if (directionFree && seedTooClose(q, heading, clearance, true)) return false;
+        Vec2 dir;
+        if (!direction(q, heading, dir)) return false;
+        if (!directionFree && seedTooClose(q, dir, clearance, single)) return false;
         return traceStroke(q, dir);
     }
 
@@ -500,6 +643,7 @@ private:
         const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.size() > before) m_grid.popBack();
+            m_nBlockers = 0; // they may have been among the removed samples
             return false;
         }
         Stroke stroke;
@@ -541,18 +685,21 @@ private:
             }
         // One pixel of guard band (8-neighbourhood) keeps stroke centres a pixel away
         // from the background, so a stroke's width stays on the object.
+        // Separable: a horizontal then a vertical 3-tap maximum; the image border counts as edge.
+        std::vector<uint8_t> rows(edge.size(), 0);
+        parallelFor(0, h, [&](int64_t y) {
+            const uint8_t *e = &edge[size_t(y) * size_t(w)];
+            uint8_t *o = &rows[size_t(y) * size_t(w)];
+            for (int x = 0; x < w; ++x)
+                o[x] = uint8_t((x == 0 || e[x - 1]) | e[x] | (x + 1 == w || e[x + 1]));
+        }, 8);
         m_blocked.assign(edge.size(), 0);
         parallelFor(0, h, [&](int64_t y) {
-            for (int x = 0; x < w; ++x) {
-                uint8_t b = 0;
-                for (int dy = -1; dy <= 1 && !b; ++dy)
-                    for (int dx = -1; dx <= 1 && !b; ++dx) {
-                        const int xx = x + dx, yy = int(y) + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) b = 1;
-                        else b = edge[size_t(yy) * size_t(w) + size_t(xx)];
-                    }
-                m_blocked[size_t(y) * size_t(w) + size_t(x)] = b;
-            }
+            const uint8_t *up = y > 0 ? &rows[size_t(y - 1) * size_t(w)] : nullptr;
+            const uint8_t *mid = &rows[size_t(y) * size_t(w)];
+            const uint8_t *down = y + 1 < h ? &rows[size_t(y + 1) * size_t(w)] : nullptr;
+            uint8_t *o = &m_blocked[size_t(y) * size_t(w)];
+            for (int x = 0; x < w; ++x) o[x] = uint8_t((!up || up[x]) | mid[x] | (!down || down[x]));
         }, 8);
     }
 
@@ -569,6 +716,9 @@ private:
     double m_offCos = 1, m_offSin = 0;
     bool m_rotated = false;
     int m_family = 0;
+    bool m_firstFamilyOnly = true; // no line of the second family traced yet
+    Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)
+    int m_nBlockers = 0;
     double m_seedClearance = kSeedClearance;
     double m_minLengthRatio = kStubLengthRatio; // shortest stroke kept, in d_sep
     double m_threshold = 0.0;  // tone from which the stroke being traced may hatch

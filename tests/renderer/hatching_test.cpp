@@ -297,6 +297,52 @@ TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
     EXPECT_LT(nearest, 2.0 * dSep);
 }
 
+// A +1 and a −1 design element a few pixels apart on screen give a pair of
+// singularities whose indices cancel. In cross-hatched tone the pair is below the
+// drawing's scale: hatching runs up to it (a separate keep-away disc for each would
+// leave a light hole). Where a single family hatches, each keeps its own disc.
+TEST(Hatching, CancellingPairIsClearedOnlyInLightTone) {
+    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 256, 256);
+    Scene s(field::makeDisk(40), cam);
+    field::DesignElement plus, minus;
+    plus.position = field::Vec3(-0.015, 0.0, 0);
+    plus.order = 1;
+    minus.position = field::Vec3(0.015, 0.0, 0);
+    minus.order = -1;
+    s.field = field::designField(*s.frames, 4, {plus, minus});
+    s.render();
+    const field::SingularityReport sing = field::findSingularities(*s.frames, s.field);
+    ASSERT_GE(sing.singularities.size(), 2u);
+    styles::HatchStyle st;
+    auto nearestStroke = [&](const StrokeList &list) {
+        double nearest = 1e9;
+        for (const Stroke &stroke : list.strokes)
+            for (size_t k = 0; k + 1 < stroke.points.size(); ++k)
+                for (const field::Singularity &sg : sing.singularities) {
+                    const Vec2 c = cam.project(sg.position);
+                    const Vec2 a = stroke.points[k], ab = stroke.points[k + 1] - a;
+                    const double t = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+                    nearest = std::min(nearest, (c - (a + t * ab)).norm());
+                }
+        return nearest;
+    };
+    // Dark: two families; d_sep of the first family from the spacing formula,
+    // 1.8 / (1 − (1 − 0.8) / (1 − b)) with b = 1 − sqrt(0.2), about 3.6 px.
+    HatchReport dark;
+    const StrokeList darkList = traceHatches(s.screen, s.uniformDensity(0.8f), s.gbuffer, st, 5, &dark);
+    ASSERT_GT(dark.strokesFamily1, 5);
+    const double b = 1.0 - std::sqrt(0.2);
+    const double dSepDark = st.strokeWidthPx / (1.0 - 0.2 / (1.0 - b));
+    EXPECT_LT(nearestStroke(darkList), 0.5 * dSepDark);
+    EXPECT_EQ(dark.minSpacingViolations, 0);
+    // Light: one family, d_sep = 1.8 / 0.2 = 9 px; every singularity keeps its disc.
+    HatchReport light;
+    const StrokeList lightList = traceHatches(s.screen, s.uniformDensity(0.2f), s.gbuffer, st, 5, &light);
+    ASSERT_GT(light.strokes, 5);
+    EXPECT_EQ(light.strokesNearSingularities, 0);
+    EXPECT_GE(nearestStroke(lightList), 0.98 * st.strokeWidthPx / 0.2);
+}
+
 TEST(Hatching, SameStrokesForOneAndTwoThreads) {
     Scene s = cylinder(128);
     styles::HatchStyle st;
