@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -155,6 +157,46 @@ TEST(FieldCli, BadParametersExitTwo) {
     EXPECT_EQ(missing.exitCode, 3) << missing.err;
     CliRun outDir = run("field '" + mesh + "' --json /nonexistent-dir/x.json", "field-outdir");
     EXPECT_EQ(outDir.exitCode, 3) << outDir.err;
+}
+
+// --export-mesh writes the repaired mesh through OpenMesh's writers, with the
+// command's other outputs; --timings writes its file (it used to be accepted and
+// ignored), with the smoothest field's eigen-solve.
+TEST(FieldCli, ExportMeshAndTimingsFileAreWritten) {
+    const std::string mesh = std::string(ROSY_DATA_DIR) + "/meshes/fandisk.off";
+    for (const char *name : {"fandisk-out.obj", "field-timings.json", "never.obj"}) fs::remove(workDir() / name);
+    CliRun r = run("field '" + mesh + "' -n 4 --source smoothest --export-mesh fandisk-out.obj --timings field-timings.json",
+                   "field-export");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    // The loader's own counts, printed first: "...: V vertices, F faces, ...".
+    int nV = 0, nF = 0;
+    ASSERT_EQ(std::sscanf(r.out.substr(r.out.find(": ") + 2).c_str(), "%d vertices, %d faces", &nV, &nF), 2) << r.out;
+    const std::string obj = slurp(workDir() / "fandisk-out.obj");
+    int objV = 0, objF = 0;
+    for (size_t at = 0; at < obj.size(); at = obj.find('\n', at) + 1) {
+        objV += obj.compare(at, 2, "v ") == 0;
+        objF += obj.compare(at, 2, "f ") == 0;
+        if (obj.find('\n', at) == std::string::npos) break;
+    }
+    EXPECT_EQ(objV, nV);
+    EXPECT_EQ(objF, nF);
+    const std::string timings = slurp(workDir() / "field-timings.json");
+    for (const char *key : {"\"load\"", "\"solve\"", "\"total\"", "\"eigen_solve\"", "\"method\"", "\"fallback\""})
+        EXPECT_NE(timings.find(key), std::string::npos) << key << " in " << timings;
+    // Refused before any work, nothing written, an existing file kept.
+    std::ofstream(workDir() / "keep.stl") << "old";
+    CliRun stl = run("field '" + mesh + "' --export-mesh keep.stl --export-mesh-directions", "field-export-stl");
+    EXPECT_EQ(stl.exitCode, 2) << stl.err;
+    EXPECT_NE(stl.err.find("--export-mesh-directions: error:"), std::string::npos) << stl.err;
+    EXPECT_EQ(slurp(workDir() / "keep.stl"), "old");
+    CliRun ext = run("field '" + mesh + "' --export-mesh mesh.xyz", "field-export-ext");
+    EXPECT_EQ(ext.exitCode, 2) << ext.err;
+    EXPECT_NE(ext.err.find("--export-mesh: error:"), std::string::npos) << ext.err;
+    CliRun dir = run("field '" + mesh + "' --export-mesh /nonexistent-dir/x.obj", "field-export-dir");
+    EXPECT_EQ(dir.exitCode, 3) << dir.err;
+    CliRun other = run("field '" + mesh + "' --export-mesh never.obj --json /nonexistent-dir/x.json", "field-export-json");
+    EXPECT_EQ(other.exitCode, 3) << other.err;
+    EXPECT_FALSE(fs::exists(workDir() / "never.obj"));
 }
 
 TEST(FieldCli, SceneEditsAndEditFlagsReachTheReport) {
