@@ -1,8 +1,8 @@
 /// \file cmd_field.cpp
 /// `rosyhatch field SCENE_OR_MESH`: builds an N-RoSy field on a mesh, finds its
 /// singularities, prints a summary and optionally writes the JSON report and a
-/// PLY export of the member directions, and pictures of the field (--image,
-/// --image-before).
+/// PLY export of the member directions, the repaired mesh through OpenMesh's
+/// writers (--export-mesh), and pictures of the field (--image, --image-before).
 
 #include "cli/commands.h"
 

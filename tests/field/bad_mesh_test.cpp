@@ -346,7 +346,7 @@ TEST_F(BadMesh, CrlfBomTabsAndNoFinalNewlineParseLikeThePlainFile) {
         expectSameMesh(loads("nonl" + f.ext, chop(f.text)), plain);
         if (f.ext != ".ply") expectSameMesh(loads("tabs" + f.ext, tabs(f.text)), plain);
     }
-    // A binary PLY with a BOM still goes through OpenMesh's binary reader.
+    // A binary PLY with a BOM still goes through the binary branch of our PLY reader.
     expectSameMesh(loads("bom_bin.ply", bom + binaryPly()), loads("plain_bin.ply", binaryPly()));
 }
 

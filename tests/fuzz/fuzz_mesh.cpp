@@ -1,8 +1,8 @@
 /// \file fuzz_mesh.cpp
 /// libFuzzer harness for one mesh format (ROSY_FUZZ_EXT: ".off", ".obj", ".ply", ".stl";
 /// one executable per format, see CMakeLists.txt). The input is the whole file: it is
-/// written to a scratch file with that extension and read by field::loadMesh (OpenMesh's
-/// parser plus our validation and repairs), first with repairs, then strictly.
+/// written to a scratch file with that extension and read by field::loadMesh (our checked
+/// reader for the format plus validation and repairs), first with repairs, then strictly.
 ///
 /// Oracle: loadMesh returns a mesh that passes checkMesh() (valid halfedges, χ = V − E + F
 /// per component, Gauss–Bonnet through the frames) or throws InputError / IoError. The
@@ -25,7 +25,7 @@ using namespace rosy;
 namespace {
 
 /// Below libFuzzer's default 2 GB -rss_limit_mb with room to spare: 1e5 faces is a few
-/// tens of MB through OpenMesh and our repair, and keeps one execution well under a second.
+/// tens of MB through our reader and repair, and keeps one execution well under a second.
 constexpr int64_t kMaxFaces = 100'000;
 
 bool anyRepair(const field::LoadReport &r) {
