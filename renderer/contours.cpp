@@ -24,6 +24,8 @@ constexpr double kMinRunPx = 2.0;     // shorter visible runs are dropped
 constexpr double kDepthTolPx = 2.0;   // depth tolerance, in pixels' worth of world size
 constexpr double kTaperPx = 6.0;      // taper length at open chain ends
 constexpr double kTaperMinWidth = 0.35; // width fraction at the very tip
+constexpr double kOutlineReachPx = 0.9; // a silhouette line reaches at most this far past the outline
+constexpr double kOutlineProbePx = 2.0; // across-line distance at which its two sides are read
 // At a junction (a node with other than two segments) a chain continues only into
 // a segment turning less than this, preferring the straightest one.
 constexpr double kMaxJunctionTurnDeg = 45.0;
@@ -82,6 +84,7 @@ private:
     bool sampleVisible(const Sample &s) const;
     bool onSegmentFace(int face, int segment) const;
     double pixelWorldSize(double depth) const;
+    void insetSilhouette(Stroke &st, bool closedLoop) const;
     void emitRun(const std::vector<Sample> &samples, int begin, int end, bool hidden,
                  bool closedLoop, int group, std::vector<Stroke> &out) const;
 
@@ -472,7 +475,42 @@ void Extractor::emitRun(const std::vector<Sample> &samples, int begin, int end, 
         }
         st.widths[i] = float(base * f);
     }
+    if (group == 0 && !hidden) insetSilhouette(st, closedLoop);
     out.push_back(std::move(st));
+}
+
+// A silhouette line is centred on the outline, so half its width lies past it. Lines
+// wider than two pixels (the engraving preset's 2.4 px) would then ink pixels beyond
+// the one-pixel border that inspect's ink_outside_silhouette_px allows. Each point of
+// such a line moves toward its own sheet by half its width less kOutlineReachPx, so the
+// line still covers the outline and never reaches further than that past it. The
+// sheet's side is read off the G-buffer across the line: covered against background,
+// or the nearer surface where a silhouette passes in front of another part.
+void Extractor::insetSilhouette(Stroke &st, bool closedLoop) const {
+    const size_t n = st.points.size();
+    std::vector<Vec2> moved = st.points;
+    auto depthAt = [&](const Vec2 &p) {
+        const int x = int(std::floor(p.x())), y = int(std::floor(p.y()));
+        if (x < 0 || y < 0 || x >= m_gbuffer.width || y >= m_gbuffer.height) return std::numeric_limits<double>::infinity();
+        const size_t q = size_t(m_gbuffer.index(x, y));
+        return m_gbuffer.faceId[q] < 0 ? std::numeric_limits<double>::infinity() : double(m_gbuffer.depth[q]);
+    };
+    for (size_t i = 0; i < n; ++i) {
+        const double inset = 0.5 * double(st.widths[i]) - kOutlineReachPx;
+        if (!(inset > 0.0)) continue;
+        const size_t a = i > 0 ? i - 1 : (closedLoop ? n - 2 : 0);
+        const size_t b = i + 1 < n ? i + 1 : (closedLoop ? 1 : n - 1);
+        const Vec2 t = st.points[b] - st.points[a];
+        const double tl = t.norm();
+        if (!(tl > 1e-12)) continue;
+        const Vec2 nrm(-t.y() / tl, t.x() / tl);
+        const double dPlus = depthAt(st.points[i] + kOutlineProbePx * nrm);
+        const double dMinus = depthAt(st.points[i] - kOutlineProbePx * nrm);
+        if (dPlus == dMinus) continue; // both background, or no side to tell
+        moved[i] = st.points[i] + (dPlus < dMinus ? inset : -inset) * nrm;
+    }
+    if (closedLoop && n >= 2) moved[n - 1] = moved[0];
+    st.points = std::move(moved);
 }
 
 std::vector<Stroke> Extractor::strokesOfChain(const Chain &chain) const {

@@ -54,6 +54,13 @@ constexpr double kMaxTaperWidths = 3.0;
 
 float clampDensity(float d) { return d == d ? std::clamp(d, 0.f, 1.f) : 0.f; }
 
+/// Line spacing at which parallel lines of the style's width give `coverage`.
+double spacingOfCoverage(double coverage, const styles::HatchStyle &style) {
+    const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
+    if (!(coverage > 0)) return hi;
+    return std::clamp(style.strokeWidthPx / coverage, lo, hi);
+}
+
 /// splitmix64: a tiny, well-mixed hash for per-stroke random numbers.
 uint64_t mix(uint64_t x) {
     x += 0x9e3779b97f4a7c15ull;
@@ -330,7 +337,8 @@ public:
                 m_spacing[0][i] = m_spacing[1][i] = std::max(style.minSpacingPx, style.maxSpacingPx);
                 return;
             }
-            for (int f = 0; f < 2; ++f) m_spacing[f][i] = familySpacingPx(densityAt(int(i)), f, style, w);
+            const std::array<double, 2> coverage = familyCoverage(densityAt(int(i)), style, w);
+            for (int f = 0; f < 2; ++f) m_spacing[f][i] = spacingOfCoverage(coverage[size_t(f)], style);
         }, 4096);
         m_discs = singularityDiscs(field, density, style, 1.0);
         // Pixels a disc may reach, so the exact test runs only near singularities.
@@ -404,7 +412,9 @@ public:
             size_t crossing = 0;
             for (size_t v = 0; v < pts.size(); ++v) {
                 const int i = pixelIndex(pts[v]);
-                if (i < 0) continue;
+                // In single tone the tracer kept every first-family line d_test clear of
+                // the earlier ones whatever their direction: nothing to find there.
+                if (i < 0 || singleTone(i)) continue;
                 const double r = kTestRatio * familySpacingPx(densityAt(i), 0, m_style, m_crossWeight[size_t(i)]);
                 if (m_grid.any(pts[v], r, [&](const Sample &s) {
                         return s.stroke < int(k) && s.family == 0 && !moved[size_t(s.stroke)] &&
@@ -818,10 +828,7 @@ std::array<double, 2> familyCoverage(double density, const styles::HatchStyle &s
 }
 
 double familySpacingPx(double density, int family, const styles::HatchStyle &style, double crossWeight) {
-    const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
-    const double coverage = familyCoverage(density, style, crossWeight)[family == 0 ? 0 : 1];
-    if (!(coverage > 0)) return hi;
-    return std::clamp(style.strokeWidthPx / coverage, lo, hi);
+    return spacingOfCoverage(familyCoverage(density, style, crossWeight)[family == 0 ? 0 : 1], style);
 }
 
 double localSpacingPx(double density, const styles::HatchStyle &style) {

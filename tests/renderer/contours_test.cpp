@@ -120,6 +120,36 @@ TEST(Contours, SphereSilhouetteIsOneLoopOnTheAnalyticCircle) {
     EXPECT_GE(s.id, kContourIdBase);
 }
 
+// A silhouette line wider than two pixels sits inside the outline so that it reaches at
+// most 0.9 px past it (inspect allows one pixel of border); its inner edge still lies
+// beyond the outline's inner side. The sphere's outline is the analytic circle.
+TEST(Contours, WideSilhouetteLinesStayWithinAPixelOfTheOutline) {
+    Mesh mesh = rosy::field::makeIcosphere(4, 1.0);
+    const int size = 256;
+    const double distance = 4.0, fov = 40.0;
+    Camera cam = Camera::perspective(Vec3(0, 0, distance), Vec3::Zero(), Vec3(0, 1, 0), fov, size, size);
+    const double scale = 0.5 * size / std::tan(0.5 * fov * kPi / 180.0);
+    const double radiusPx = scale / std::sqrt(distance * distance - 1.0);
+    const Vec2 centre(0.5 * size, 0.5 * size);
+    for (double width : {1.6, 3.0, 5.0}) {
+        rosy::styles::ContourStyle style = testStyle();
+        style.widthPx = width;
+        Contours c = extract(mesh, cam, style);
+        ASSERT_EQ(c.strokes.strokes.size(), 1u);
+        const Stroke &s = c.strokes.strokes[0];
+        // Where the line's centre lies for each width: on the outline (within the 1 px
+        // of polygonal tolerance of the test above) up to 1.8 px wide, then inset by
+        // half the width less 0.9 px.
+        const double inset = std::max(0.0, 0.5 * width - 0.9);
+        for (size_t i = 0; i < s.points.size(); ++i) {
+            const double r = (s.points[i] - centre).norm();
+            EXPECT_NEAR(r, radiusPx - inset, 1.0) << "width " << width << " point " << i;
+            // Outer edge at most a pixel past the outline (the polygonal sphere lies inside the circle).
+            EXPECT_LE(r + 0.5 * s.widths[i], radiusPx + 1.0) << "width " << width;
+        }
+    }
+}
+
 TEST(Contours, CubeShowsItsNineVisibleEdgesAndHidesTheOtherThree) {
     Mesh mesh = rosy::field::makeCube(1);
     const int size = 256;

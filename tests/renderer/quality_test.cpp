@@ -90,14 +90,12 @@ bool skipUnlessHatching(const std::string &name, std::string &why) {
 
 /// Issue 15 is open for these: scenes whose small dark parts (fingers, hooves, eye
 /// sockets, the mouth, a saddle in shadow: strokes have no room there or stop at
-/// the depth edges inside them) still leave seams above the issue's 0.002, and one
-/// whose silhouette contours (not the hatching) spill ink past the one-pixel
-/// border. Each is held to the bounds written here instead, so it cannot get worse
-/// unnoticed; every threshold not named here still holds for them. Measured
-/// 2026-12-02: seam_fraction armadillo 0.0099, bunny-2rosy 0.0022, camel 0.0075,
-/// femur 0.0072, genus2 0.0037, lion-head 0.0085, man 0.021,
-/// mannequin-devil 0.0036, three-peaks 0.0037,
-/// triceratops 0.0063 (before this issue's changes bunny
+/// the depth edges inside them) still leave seams above the issue's 0.002, and
+/// armadillo's tone error. Each is held to the bounds written here instead, so it
+/// cannot get worse unnoticed; every threshold not named here still holds for them.
+/// Measured 2026-12-02 after the singularity groups: seam_fraction armadillo 0.0109,
+/// camel 0.0067, genus2 0.0037, lion-head 0.0084, man 0.0035, three-peaks 0.0033,
+/// triceratops 0.0026; armadillo tone 0.132 (before this issue's changes: bunny
 /// 0.018, armadillo 0.082, lion-head 0.047, genus2 0.033).
 struct OpenGap {
     const char *scene;
@@ -110,7 +108,7 @@ const OpenGap kOpenGaps[] = {
     {"armadillo", 0.012, 0.14, 16.0},
     {"camel", 0.008},
     {"genus2", 0.005},
-    {"lion-head", 0.010, 0.12, 15.0, 30},
+    {"lion-head", 0.010},
     {"man", 0.005},
     {"three-peaks", 0.005},
     {"triceratops", 0.004},
