@@ -21,6 +21,8 @@ target_link_libraries(rosy_suitesparse INTERFACE ${CHOLMOD_LIBRARY} ${UMFPACK_LI
 
 if(ROSY_BUILD_TESTS)
   find_package(GTest REQUIRED)
+  # Tests only: reading the JSON the programs write with a real parser.
+  find_package(nlohmann_json 3 REQUIRED)
 endif()
 if(ROSY_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)

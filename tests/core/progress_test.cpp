@@ -1,0 +1,86 @@
+// core/progress.h: the bar draws only on a terminal, only when enabled, and only
+// after the first second; a pseudo-terminal stands in for the user's terminal.
+
+#include "core/progress.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fcntl.h>
+#include <string>
+#include <thread>
+#include <unistd.h>
+
+using namespace rosy;
+
+namespace {
+
+/// stderr redirected to a new pseudo-terminal while alive; read() drains what was written.
+class StderrOnTerminal {
+public:
+    StderrOnTerminal() {
+        m_master = ::posix_openpt(O_RDWR | O_NOCTTY);
+        if (m_master < 0 || ::grantpt(m_master) != 0 || ::unlockpt(m_master) != 0) return;
+        m_slave = ::open(::ptsname(m_master), O_RDWR | O_NOCTTY);
+        if (m_slave < 0) return;
+        std::fflush(stderr);
+        m_saved = ::dup(STDERR_FILENO);
+        ::dup2(m_slave, STDERR_FILENO);
+        ::fcntl(m_master, F_SETFL, O_NONBLOCK);
+    }
+    ~StderrOnTerminal() {
+        std::fflush(stderr);
+        if (m_saved >= 0) ::dup2(m_saved, STDERR_FILENO), ::close(m_saved);
+        if (m_slave >= 0) ::close(m_slave);
+        if (m_master >= 0) ::close(m_master);
+    }
+    bool ok() const { return m_saved >= 0; }
+    std::string read() {
+        std::fflush(stderr);
+        std::string out;
+        char buf[256];
+        for (ssize_t n; (n = ::read(m_master, buf, sizeof buf)) > 0;) out.append(buf, size_t(n));
+        return out;
+    }
+
+private:
+    int m_master = -1, m_slave = -1, m_saved = -1;
+};
+
+} // namespace
+
+TEST(Progress, SilentWhenStderrIsNoTerminal) {
+    testing::internal::CaptureStderr(); // a file, not a terminal
+    {
+        Progress p("hatching", 10);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+        p.advance(5);
+        p.finish();
+    }
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+TEST(Progress, OnATerminalDrawsAfterTheFirstSecondUnlessDisabled) {
+    StderrOnTerminal tty;
+    if (!tty.ok()) GTEST_SKIP() << "no pseudo-terminal";
+    setProgressEnabled(false);
+    Progress disabled("disabled", 4);
+    setProgressEnabled(true);
+    Progress bar("hatching", 4);
+    bar.advance(1); // within the first second: nothing
+    EXPECT_EQ(tty.read(), "");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    disabled.advance(2);
+    EXPECT_EQ(tty.read(), "");
+    bar.advance(1); // 2 of 4 after a second: half the 30-character bar
+    const std::string drawn = tty.read();
+    EXPECT_EQ(drawn.rfind("\rhatching     [###############...............]  50%", 0), 0u) << drawn;
+    EXPECT_EQ(drawn.back(), 's');
+    bar.finish(); // redrawn full, then the line cleared
+    const std::string finished = tty.read();
+    EXPECT_NE(finished.find("[##############################] 100%"), std::string::npos) << finished;
+    EXPECT_EQ(finished.substr(finished.size() - 4), "\r\033[K");
+    bar.finish(); // only once
+    EXPECT_EQ(tty.read(), "");
+}
