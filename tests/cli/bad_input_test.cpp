@@ -4,6 +4,7 @@
 // is byte-identical and no temporary file is left in the folder.
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cmath>
@@ -283,8 +284,7 @@ TEST(BadInputCli, ExtremeScalesRenderLikeUnitScale) {
     EXPECT_TRUE(png["tiny2"] == png["unit"]) << "2^-30 scale changed the drawing";
     EXPECT_TRUE(png["huge2"] == png["unit"]) << "2^30 scale changed the drawing";
     auto number = [](const std::string &json, const std::string &key) {
-        const size_t at = json.find("\"" + key + "\"");
-        return at == std::string::npos ? -1.0 : std::stod(json.substr(json.find(':', at) + 1));
+        return nlohmann::json::parse(json).at(key).get<double>();
     };
     for (const char *name : {"tiny", "huge"}) {
         const double strokes = number(report[name], "strokes"), unit = number(report["unit"], "strokes");

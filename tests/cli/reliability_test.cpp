@@ -8,6 +8,7 @@
 // check that they fail on a build without the fixes).
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <csignal>
@@ -426,13 +427,9 @@ TEST(ReliabilityCli, GlobalSmoothingNeverHatchesAZeroField) {
     EXPECT_EQ(r.exitCode, 0) << r.err;
     r = run(dir, "field ico.yaml --global-smoothing 20:1 --json short.json -q");
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    auto count = [](const std::string &json) {
-        const size_t at = json.find("\"singularities\"");
-        const size_t end = json.find(']', at);
-        size_t n = 0;
-        for (size_t p = json.find("\"id\"", at); p != std::string::npos && p < end; p = json.find("\"id\"", p + 1)) ++n;
-        return n;
-    };
+    // Read by a parser: the old text search stopped at the first ']' (the first
+    // singularity's position), so it counted at most one singularity per side.
+    auto count = [](const std::string &json) { return nlohmann::json::parse(json).at("singularities").size(); };
     const std::string longJson = slurp(dir / "long.json"), shortJson = slurp(dir / "short.json");
     EXPECT_EQ(count(longJson), count(shortJson)) << longJson;
     r = run(dir, "render ico.yaml -o ico.png -q --report rep.json --set field.global_smoothing.iterations=20000 "

@@ -30,6 +30,19 @@ bool updating() {
     return v && std::string(v) == "1";
 }
 
+/// The golden report of a field picture: the figures of `rosyhatch field --json`
+/// that the picture shows (N, the singularities and their index sum, the surface's
+/// Euler characteristic), flat so the same gates read them.
+std::string fieldPictureReport(const std::string &fieldJson) {
+    const nlohmann::json field = nlohmann::json::parse(fieldJson);
+    nlohmann::ordered_json report;
+    report["symmetry"] = field.at("field").at("symmetry");
+    report["singularities"] = field.at("singularities").size();
+    report["index_sum"] = field.at("index_sum");
+    report["euler_characteristic"] = field.at("mesh").at("euler_characteristic");
+    return report.dump(2) + "\n";
+}
+
 struct Rendered {
     fs::path exr, png, report, inspect;
     double hatchSpacingPx = 0.0;
@@ -46,13 +59,20 @@ Rendered renderCase(const std::string &scene, const Overrides &overrides, const 
     const RunResult render = runRosy(args.str(), dir, "render");
     if (render.exitCode == 2 && render.err.find("field picture") != std::string::npos) {
         // A field picture (the paper's figures) has no strokes to report or ink
-        // channels to inspect: the golden is its picture alone.
+        // channels to inspect: the golden is its picture and what the picture shows,
+        // the field's topology as `rosyhatch field` reports it for the same scene.
         std::ostringstream png;
         png << "render " << sceneArgs(kScenesDir / scene, overrides, dir) << " -o '" << out.png.string()
             << "' --quiet";
         const RunResult picture = runRosy(png.str(), dir, "render-picture");
         EXPECT_EQ(picture.exitCode, 0) << picture.err;
-        spit(out.report, "{}\n");
+        const fs::path fieldJson = dir / "new.field.json";
+        fs::remove(fieldJson);
+        const RunResult field = runRosy("field " + sceneArgs(kScenesDir / scene, overrides, dir) + " --json '" +
+                                            fieldJson.string() + "' --quiet",
+                                        dir, "field");
+        EXPECT_EQ(field.exitCode, 0) << field.err;
+        spit(out.report, fieldPictureReport(slurp(fieldJson)));
         spit(out.inspect, "{}\n");
         return out;
     }
@@ -126,6 +146,11 @@ std::vector<Gate> checkGates(const std::map<std::string, double> &goldReport,
     gate(goldReport, newReport, "ink_length_px", 0.01, true);
     gate(goldReport, newReport, "symmetry", 0, false);
     gate(goldReport, newReport, "singularities", 0, false);
+    gate(goldReport, newReport, "index_sum", 1e-9, false);            // field pictures
+    gate(goldReport, newReport, "euler_characteristic", 0, false);    // field pictures
+    // Every golden gates the field at least: a report without these compares nothing.
+    for (const char *key : {"symmetry", "singularities"})
+        if (!goldReport.count(key)) problems += std::string("the golden report has no ") + key + ": nothing is gated\n";
     const double strokes = goldReport.count("strokes") ? goldReport.at("strokes") : 0.0;
     gate(goldReport, newReport, "min_spacing_violations", std::max(2.0, 0.01 * strokes), false);
     gate(goldReport, newReport, "strokes_near_singularities", std::max(2.0, 0.01 * strokes), false);

@@ -12,8 +12,10 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <sys/wait.h>
 #include <utility>
@@ -115,13 +117,15 @@ inline std::string sceneArgs(const fs::path &scene, const Overrides &overrides, 
     return args.str();
 }
 
-/// Every `"key": number` of a JSON text (the first occurrence of each key; null
-/// and non-numbers are left out). Our reports are flat enough for this.
+/// Every top-level `"key": number` of a JSON object (null and non-numbers are left
+/// out), read by a real parser. \throws nlohmann::json::exception when `json` is
+/// not a JSON object, so a truncated or garbled report fails the test.
 inline std::map<std::string, double> numbersOf(const std::string &json) {
+    const nlohmann::json doc = nlohmann::json::parse(json);
+    if (!doc.is_object()) throw std::invalid_argument("a report must be a JSON object, got: " + json);
     std::map<std::string, double> out;
-    static const std::regex pair(R"re("([A-Za-z0-9_.]+)"\s*:\s*(-?[0-9][0-9.eE+-]*))re");
-    for (auto it = std::sregex_iterator(json.begin(), json.end(), pair); it != std::sregex_iterator(); ++it)
-        out.emplace((*it)[1].str(), std::stod((*it)[2].str()));
+    for (const auto &[key, value] : doc.items())
+        if (value.is_number()) out.emplace(key, value.get<double>());
     return out;
 }
 
