@@ -17,8 +17,9 @@ using namespace rosy;
 TEST(ParallelFor, VisitsEveryIndexOnceForAnyRangeAndGrain) {
     for (const int threads : {1, 2, 4}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-        for (const auto &[begin, end] : std::vector<std::pair<int64_t, int64_t>>{{0, 1}, {0, 255}, {0, 256}, {0, 257}, {-300, 7000}, {5, 100000}})
+        for (const auto &range : std::vector<std::pair<int64_t, int64_t>>{{0, 1}, {0, 255}, {0, 256}, {0, 257}, {-300, 7000}, {5, 100000}})
             for (const int64_t grain : {1, 7, 256, 100000}) {
+                const int64_t begin = range.first, end = range.second; // clang 14 cannot capture structured bindings
                 std::vector<std::atomic<int>> hits(size_t(end - begin));
                 parallelFor(begin, end, [&](int64_t i) { hits[size_t(i - begin)].fetch_add(1); }, grain);
                 int wrong = 0;
