@@ -247,9 +247,12 @@ struct Disc {
 /// within d_sep of the singularity's own tone. `shrink` < 1 gives the measuring tolerance.
 std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<float> &density,
                                    const styles::HatchStyle &style, double shrink) {
-    std::vector<Disc> discs;
-    std::vector<double> index;
-    std::vector<uint8_t> crossTone;
+    struct Candidate {
+        Disc disc;
+        double index;   // k / N
+        bool crossTone; // the darkest tone within its disc is cross-hatched
+    };
+    std::vector<Candidate> cands;
     for (const ScreenSingularity &s : field.singularities) {
         if (!s.visible) continue;
         const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
@@ -266,9 +269,7 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
                 if (dx * dx + dy * dy <= r0 * r0)
                     darkest = std::max(darkest, double(clampDensity(density[size_t(field.index(xx, yy))])));
             }
-        discs.push_back({s.pRaster, localSpacingPx(darkest, style)});
-        index.push_back(s.index);
-        crossTone.push_back(darkest >= style.crossDensity);
+        cands.push_back({{s.pRaster, localSpacingPx(darkest, style)}, s.index, darkest >= style.crossDensity});
     }
     // In cross-hatched tone, singularities whose discs overlap are one feature at the
     // drawing's scale: the two families hide the field's structure below a line
@@ -277,7 +278,7 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
     // Scanned fists, lips and hooves carry dense clusters whose separate discs would
     // clear the whole small dark part of ink (seam_fraction). Where lines are sparse
     // every singularity shows and keeps its own disc.
-    std::vector<int> parent(discs.size());
+    std::vector<int> parent(cands.size());
     for (size_t k = 0; k < parent.size(); ++k) parent[k] = int(k);
     auto root = [&](int k) {
         while (parent[size_t(k)] != k) k = parent[size_t(k)] = parent[size_t(parent[size_t(k)])];
@@ -286,31 +287,38 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
     // Pairs by a sweep along x: scans carry thousands of singularities.
     std::vector<int> byX;
     double maxRadius = 0.0;
-    for (size_t k = 0; k < discs.size(); ++k)
-        if (crossTone[k]) {
+    for (size_t k = 0; k < cands.size(); ++k)
+        if (cands[k].crossTone) {
             byX.push_back(int(k));
-            maxRadius = std::max(maxRadius, discs[k].radius);
+            maxRadius = std::max(maxRadius, cands[k].disc.radius);
         }
-    std::sort(byX.begin(), byX.end(), [&](int a, int b) { return discs[size_t(a)].centre.x() < discs[size_t(b)].centre.x(); });
+    auto discOf = [&](int k) -> const Disc & { return cands[size_t(k)].disc; };
+    std::sort(byX.begin(), byX.end(), [&](int a, int b) { return discOf(a).centre.x() < discOf(b).centre.x(); });
     for (size_t i = 0; i < byX.size(); ++i)
         for (size_t j = i + 1; j < byX.size(); ++j) {
-            const Disc &a = discs[size_t(byX[i])], &b = discs[size_t(byX[j])];
+            const Disc &a = discOf(byX[i]), &b = discOf(byX[j]);
             if (b.centre.x() - a.centre.x() >= 2.0 * maxRadius) break;
             const double reach = a.radius + b.radius;
             if ((a.centre - b.centre).squaredNorm() < reach * reach) parent[size_t(root(byX[i]))] = root(byX[j]);
         }
-    std::vector<double> net(discs.size(), 0.0), members(discs.size(), 0.0), radius(discs.size(), 0.0);
-    std::vector<Vec2> centre(discs.size(), Vec2::Zero());
-    for (size_t k = 0; k < discs.size(); ++k) {
-        const size_t g = size_t(root(int(k)));
-        net[g] += index[k];
-        members[g] += 1.0;
-        centre[g] += discs[k].centre;
-        radius[g] = std::max(radius[g], discs[k].radius);
+    // Per group (indexed by its root): summed index, member count, centre sum, radius.
+    struct Group {
+        double net = 0.0;
+        int members = 0;
+        Vec2 centre = Vec2::Zero();
+        double radius = 0.0;
+    };
+    std::vector<Group> groups(cands.size());
+    for (size_t k = 0; k < cands.size(); ++k) {
+        Group &g = groups[size_t(root(int(k)))];
+        g.net += cands[k].index;
+        ++g.members;
+        g.centre += cands[k].disc.centre;
+        g.radius = std::max(g.radius, cands[k].disc.radius);
     }
     std::vector<Disc> kept;
-    for (size_t g = 0; g < discs.size(); ++g)
-        if (members[g] > 0 && std::abs(net[g]) > 1e-6) kept.push_back({centre[g] / members[g], shrink * radius[g]});
+    for (const Group &g : groups)
+        if (g.members > 0 && std::abs(g.net) > 1e-6) kept.push_back({g.centre / double(g.members), shrink * g.radius});
     return kept;
 }
 

@@ -85,6 +85,21 @@ Scene cylinder(int size) {
     return s;
 }
 
+/// Smallest screen distance from a stroke segment of `list` to any singularity of
+/// `sing`, projected through `cam`.
+double nearestStrokeToSingularities(const StrokeList &list, const field::SingularityReport &sing, const Camera &cam) {
+    double nearest = 1e9;
+    for (const Stroke &stroke : list.strokes)
+        for (size_t k = 0; k + 1 < stroke.points.size(); ++k)
+            for (const field::Singularity &sg : sing.singularities) {
+                const Vec2 c = cam.project(sg.position);
+                const Vec2 a = stroke.points[k], ab = stroke.points[k + 1] - a;
+                const double t = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+                nearest = std::min(nearest, (c - (a + t * ab)).norm());
+            }
+    return nearest;
+}
+
 } // namespace
 
 TEST(HatchSpacing, MatchesCoverageFormulas) {
@@ -278,20 +293,11 @@ TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
     // Singularities straight from the field, projected by the camera.
     const field::SingularityReport sing = field::findSingularities(*s.frames, s.field);
     ASSERT_FALSE(sing.singularities.empty());
-    double nearest = 1e9;
-    for (const Stroke &stroke : list.strokes) {
-        for (const Vec2 &p : stroke.points) {
+    for (const Stroke &stroke : list.strokes)
+        for (const Vec2 &p : stroke.points)
             ASSERT_TRUE(s.gbuffer.covered(int(std::floor(p.x())), int(std::floor(p.y()))))
                 << "stroke " << stroke.id << " leaves the surface at " << p.transpose();
-        }
-        for (size_t k = 0; k + 1 < stroke.points.size(); ++k)
-            for (const field::Singularity &sg : sing.singularities) {
-                const Vec2 c = cam.project(sg.position);
-                const Vec2 a = stroke.points[k], ab = stroke.points[k + 1] - a;
-                const double t = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-                nearest = std::min(nearest, (c - (a + t * ab)).norm());
-            }
-    }
+    const double nearest = nearestStrokeToSingularities(list, sing, cam);
     EXPECT_GE(nearest, 0.98 * dSep);
     // Not vacuous: hatches do come up to the disc.
     EXPECT_LT(nearest, 2.0 * dSep);
@@ -314,20 +320,9 @@ TEST(Hatching, CancellingPairIsClearedOnlyInLightTone) {
     const field::SingularityReport sing = field::findSingularities(*s.frames, s.field);
     ASSERT_GE(sing.singularities.size(), 2u);
     styles::HatchStyle st;
-    auto nearestStroke = [&](const StrokeList &list) {
-        double nearest = 1e9;
-        for (const Stroke &stroke : list.strokes)
-            for (size_t k = 0; k + 1 < stroke.points.size(); ++k)
-                for (const field::Singularity &sg : sing.singularities) {
-                    const Vec2 c = cam.project(sg.position);
-                    const Vec2 a = stroke.points[k], ab = stroke.points[k + 1] - a;
-                    const double t = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-                    nearest = std::min(nearest, (c - (a + t * ab)).norm());
-                }
-        return nearest;
-    };
+    auto nearestStroke = [&](const StrokeList &list) { return nearestStrokeToSingularities(list, sing, cam); };
     // Dark: two families; d_sep of the first family from the spacing formula,
-    // 1.8 / (1 − (1 − 0.8) / (1 − b)) with b = 1 − sqrt(0.2), about 3.6 px.
+    // 1.8 / (1 − (1 − 0.8) / (1 − b)) with b = 1 − sqrt(0.2), about 3.26 px.
     HatchReport dark;
     const StrokeList darkList = traceHatches(s.screen, s.uniformDensity(0.8f), s.gbuffer, st, 5, &dark);
     ASSERT_GT(dark.strokesFamily1, 5);
