@@ -198,6 +198,7 @@ void runRender(const RenderOptions &opt) {
         json.field("strokes_near_singularities", il.hatch.strokesNearSingularities);
         json.field("stubs", il.hatch.stubs);
         json.field("stub_fraction", il.hatch.stubFraction);
+        json.field("cross_overdense_fraction", il.hatch.crossOverdenseFraction);
         json.field("singularities", int(result.field.singularities.singularities.size()));
         json.field("symmetry", result.field.field.field.nSym);
         if (svgReport) {
