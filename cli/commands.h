@@ -38,8 +38,14 @@ void addSetOption(CLI::App &sub, std::vector<std::string> &overrides);
 /// Adds `rosyhatch diff A B` (image comparison with idiff's thresholds and exit codes).
 void addDiffCommand(CLI::App &app, Action &action);
 
+/// For `rosyhatch diff` (args[1] == "diff", args[0] the program): rewrites idiff's
+/// single-dash spellings -fail, -failpercent, -hardfail, -warn and -warnpercent to
+/// ours (--fail, ...) before parsing, up to a `--`. Other command lines are untouched.
+void acceptIdiffSpellings(std::vector<std::string> &args);
+
 /// Thrown by a subcommand whose outcome is not an error but still a nonzero exit
-/// status (diff: 1 warning, 2 failure, as idiff); main() returns `code`.
+/// status (diff: 1 warning, 2 failure, 4 file error, as idiff); main() returns `code`
+/// (the message, if any, is already printed).
 struct ExitWith {
     int code;
 };
