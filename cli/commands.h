@@ -32,6 +32,9 @@ void addStylesCommand(CLI::App &app, Action &action);
 /// Adds `rosyhatch compare SCENE.yaml` (labeled side-by-side panels of several fields).
 void addCompareCommand(CLI::App &app, Action &action);
 
+/// Adds `rosyhatch studio SCENE.yaml` (the local web page for field design, docs/studio.md).
+void addStudioCommand(CLI::App &app, Action &action);
+
 /// Adds the repeatable `--set dotted.key=VALUE` scene override (see scenes::parseSceneFile).
 void addSetOption(CLI::App &sub, std::vector<std::string> &overrides);
 

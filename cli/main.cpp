@@ -37,6 +37,7 @@ int main(int argc, char **argv) {
     rosy::cli::addStylesCommand(app, action);
     rosy::cli::addDiffCommand(app, action);
     rosy::cli::addCompareCommand(app, action);
+    rosy::cli::addStudioCommand(app, action);
 
     // The command line as strings, with diff's idiff spellings made ours.
     std::vector<std::string> args(argv, argv + argc);
