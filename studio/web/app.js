@@ -105,8 +105,8 @@ function buildMesh(buffer) {
     c.fromArray(positions, 3 * indices[3 * f + 2]);
     area += b.sub(a).cross(c.sub(a)).length() / 2;
   }
-  meshData.stride = Math.max(1, Math.round(nV / 12000)); // decimated display of big meshes
-  armLength = 0.42 * Math.sqrt(area / (nV / meshData.stride));
+  meshData.stride = Math.max(1, Math.round(nV / 6000)); // about 6000 crosses, whatever the mesh size
+  armLength = 0.5 * Math.sqrt(area / (nV / meshData.stride));
   dotRadius = 1.1 * armLength;
 }
 

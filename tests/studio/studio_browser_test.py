@@ -103,7 +103,8 @@ output: bunny.png
         pos = [s for s in sings if s["index_numerator"] == 1]
         neg = [s for s in sings if s["index_numerator"] == -1]
         pairs = sorted(((sum((a["position"][k] - b["position"][k]) ** 2 for k in range(3)), a, b)
-                        for a in pos for b in neg), key=lambda t: t[0])
+                        for a in pos for b in neg
+                        if (a["x"] - b["x"]) ** 2 + (a["y"] - b["y"]) ** 2 > 12 ** 2), key=lambda t: t[0])
         assert pairs, "no visible opposite pair to cancel"
         w, h = hits
         before = count()
@@ -129,6 +130,9 @@ output: bunny.png
         if screenshot:
             wait.until(lambda d: d.find_element(By.ID, "preview").get_attribute("src"))
             time.sleep(1.0)
+            driver.set_window_size(1280, 1000)  # room for the preview in the panel
+            time.sleep(1.0)
+            driver.execute_script("document.getElementById('panel').scrollTop = 0")
             driver.save_screenshot(screenshot)
         text = open(saved).read()
         assert "cancel_near" in text and "order: 1" in text and "# the default scene's view" in text, text
