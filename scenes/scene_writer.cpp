@@ -18,7 +18,7 @@ namespace {
 /// Shortest text that reads back to exactly `x` (fmt's default for doubles).
 std::string num(double x) { return fmt::format("{}", x); }
 
-std::string vec(const field::Vec3 &v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
+std::string vec(const field::Vec3 &v) { return fmt::format("[{}, {}, {}]", v.x(), v.y(), v.z()); }
 
 std::vector<std::string> splitLines(const std::string &text) {
     std::vector<std::string> lines;
