@@ -135,6 +135,10 @@ int main(int argc, char **argv) {
             responseBytes = r->body.size();
         },
         [&] { require(c.Post("/api/undo", "", "text/plain")->status == 200, "undo"); });
+    const double fieldInProcess = measure(repeats, [&] { st.fieldBinary(); });
+    const double stateInProcess = measure(repeats, [&] { st.stateJson(); });
+    const double editInProcess = measure(
+        repeats, [&] { st.edit(cancel); }, [&] { st.undo(); });
     const auto p = sf.field.singularities.singularities[pair.first].position;
     const std::string add = nlohmann::json{{"op", "add_element"},
                                            {"position", {p.x(), p.y(), p.z()}},
@@ -160,6 +164,9 @@ int main(int argc, char **argv) {
         std::printf("%-44s %7.1f ms %26s %7.1f ms %6.2fx\n", what, t, yard, y, t / y);
     };
     row("edit request: cancel -> field + singularities", editRequest, "library cancel + find", libraryEdit);
+    row("Studio::edit() cancel, in process (no HTTP)", editInProcess, "library cancel + find", libraryEdit);
+    row("  of which Studio::fieldBinary()", fieldInProcess, "library cancel + find", libraryEdit);
+    row("  of which Studio::stateJson()", stateInProcess, "library cancel + find", libraryEdit);
     row("edit request: +1 element (field rebuilt)", elementRequest, "buildSceneField()", fieldPipeline);
     row("first load: studio + state + mesh + field", firstLoad, "buildSceneField()", fieldPipeline);
     row("preview 512^2 PNG (scene at 512 cached)", preview, "renderScene() at 512^2", render512);

@@ -6,6 +6,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/parallel.h"
 #include "field/singularities.h"
 #include "renderer/image.h"
 
@@ -85,6 +86,8 @@ void putF32(std::string &out, double v) {
     out.append(reinterpret_cast<const char *>(&f), 4);
 }
 
+std::string normalBytes(const field::TangentFrames &frames); // below
+
 int elementIndex(const json &j, size_t count) {
     const int i = integer(j, "index");
     if (i < 0 || size_t(i) >= count)
@@ -112,6 +115,7 @@ Studio::Studio(const std::string &scenePath, const StudioOptions &options) : m_p
     scenes::PipelineOptions po;
     po.load = options.load;
     m_loaded = scenes::loadScene(desc, po);
+    m_normalBytes = normalBytes(*m_loaded.frames);
     auto state = std::make_unique<State>();
     state->block = scenes::fieldBlockOf(desc.field.spec, desc.field.edits);
     state->moveFrom.assign(state->block.edits.size(), Vec3::Constant(std::nan("")));
@@ -315,20 +319,29 @@ json singularityList(const std::vector<field::Singularity> &sings) {
     return list;
 }
 
-std::string fieldBytes(const field::TangentFrames &frames, const field::RosyField &f) {
+/// The field's binary form; `normals` is the constant second half (f32 normals).
+std::string fieldBytes(const field::TangentFrames &frames, const field::RosyField &f, const std::string &normals) {
     const int nV = frames.mesh().nVertices();
     std::string out;
-    out.reserve(16 + size_t(nV) * 24);
+    out.reserve(16 + size_t(nV) * 12 + normals.size());
     out += "RSF1";
     putU32(out, uint32_t(nV));
     putU32(out, uint32_t(f.nSym));
     putU32(out, 0);
-    for (int v = 0; v < nV; ++v) {
-        Vec3 d = Vec3::Zero();
-        if (std::abs(f.u[v]) > 1e-12) d = frames.tangentOfAngle(v, field::memberAngle(f.u[v], f.nSym)).normalized();
-        for (int c = 0; c < 3; ++c) putF32(out, d[c]);
-    }
-    for (int v = 0; v < nV; ++v)
+    std::vector<float> dirs(3 * size_t(nV), 0.0f);
+    parallelFor(0, nV, [&](int64_t v) {
+        if (std::abs(f.u[v]) <= 1e-12) return;
+        const Vec3 d = frames.tangentOfAngle(int(v), field::memberAngle(f.u[v], f.nSym)).normalized();
+        for (int c = 0; c < 3; ++c) dirs[3 * v + c] = float(d[c]);
+    });
+    out.append(reinterpret_cast<const char *>(dirs.data()), dirs.size() * sizeof(float));
+    out += normals;
+    return out;
+}
+
+std::string normalBytes(const field::TangentFrames &frames) {
+    std::string out;
+    for (int v = 0; v < frames.mesh().nVertices(); ++v)
         for (int c = 0; c < 3; ++c) putF32(out, frames.normal(v)[c]);
     return out;
 }
@@ -396,7 +409,7 @@ std::string Studio::editResponse() const {
     std::string out = "RSE1";
     putU32(out, uint32_t(state.size()));
     out += state;
-    out += fieldBytes(*m_loaded.frames, m_state->field);
+    out += fieldBytes(*m_loaded.frames, m_state->field, m_normalBytes);
     return out;
 }
 
@@ -417,7 +430,7 @@ std::string Studio::meshBinary() const {
 
 std::string Studio::fieldBinary() const {
     std::lock_guard lock(m_mutex);
-    return fieldBytes(*m_loaded.frames, m_state->field);
+    return fieldBytes(*m_loaded.frames, m_state->field, m_normalBytes);
 }
 
 std::string Studio::singularitiesJson() const {

@@ -90,6 +90,7 @@ private:
     std::string m_text; ///< the scene file as read
     StudioOptions m_options;
     scenes::LoadedScene m_loaded;
+    std::string m_normalBytes; ///< the field response's constant half: f32 vertex normals
     std::unique_ptr<State> m_state;
     std::vector<std::unique_ptr<State>> m_undo, m_redo;
     mutable std::mutex m_mutex;

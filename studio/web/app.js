@@ -165,7 +165,7 @@ function buildSingularities() {
   state.elements.forEach((e, i) => {
     const m = new THREE.Mesh(marker, new THREE.MeshBasicMaterial({ color: e.order === 0 ? 0x1a8a3a : 0xb07a00 }));
     m.position.set(...e.position);
-    m.scale.setScalar(0.8 * dotRadius);
+    m.scale.setScalar(1.5 * dotRadius); // larger than a dot: visible around its singularity
     m.userData = { element: i };
     elementGroup.add(m);
   });
@@ -335,17 +335,42 @@ function pick(event, objects) {
 const mode = () => document.querySelector('input[name=mode]:checked').value;
 for (const radio of document.querySelectorAll('input[name=mode]'))
   radio.addEventListener('change', () => { pending = null; controls.enabled = mode() === 'orbit' || mode() === 'cancel' || mode() === 'move'; });
+// Orbiting stays on in the pointing modes except while adding a direction by dragging.
 
 canvas.addEventListener('pointerdown', (event) => {
-  down = { x: event.clientX, y: event.clientY, hit: null };
+  down = { x: event.clientX, y: event.clientY, hit: null, grabbed: null };
   if (mode() === 'regular' && meshObject) {
     down.hit = pick(event, [meshObject]);
+  }
+  if (mode() === 'move' && meshObject && !pending) {
+    // Drag a singularity or an element marker to where it should go.
+    // Elements first: a singular element has its singularity right under it.
+    const hit = pick(event, [...elementGroup.children, meshObject]) || {};
+    const dot = hit.object && hit.object !== meshObject ? hit : pick(event, [...singularityGroup.children, meshObject]);
+    if (dot && dot.object !== meshObject) {
+      down.grabbed = dot.object.userData;
+      controls.enabled = false;
+    }
   }
 });
 canvas.addEventListener('pointerup', async (event) => {
   if (!down || !state) return;
   const moved = Math.hypot(event.clientX - down.x, event.clientY - down.y);
   const m = mode();
+  if (m === 'move' && down.grabbed) {
+    controls.enabled = true;
+    const grabbed = down.grabbed;
+    down = null;
+    if (moved > 4) {
+      const target = pick(event, [meshObject]);
+      if (!target) return setStatus('dropped off the model');
+      if (grabbed.element !== undefined) return edit({ op: 'update_element', index: grabbed.element, position: target.point.toArray() });
+      return edit({ op: 'move_singularity', id: grabbed.id, to: target.point.toArray() });
+    }
+    pending = grabbed; // a click: the next click on the model is the target
+    return setStatus(grabbed.element !== undefined ? `element ${grabbed.element} picked; click where it should go`
+                                                   : `singularity ${grabbed.id} picked; click where it should go`);
+  }
   if (m === 'regular' && down.hit) {
     // Drag sets the direction; a click takes the field's own direction there.
     const p = down.hit.point;
@@ -376,15 +401,12 @@ canvas.addEventListener('pointerup', async (event) => {
       const a = pending; pending = null;
       if (a.id === s.id) return setStatus('picked the same singularity twice');
       edit({ op: 'cancel', a: a.id, b: s.id });
-    } else {
-      if (!pending) {
-        if (!s) return setStatus('click the singularity to move');
-        pending = s;
-        return setStatus(`singularity ${s.id} picked; now click where it should go`);
-      }
-      const target = dot ? dot.point.toArray() : null;
+    } else if (pending) {
+      const hit = pick(event, [meshObject]);
       const from = pending; pending = null;
-      if (target) edit({ op: 'move_singularity', id: from.id, to: target });
+      if (!hit) return setStatus('clicked off the model');
+      if (from.element !== undefined) edit({ op: 'update_element', index: from.element, position: hit.point.toArray() });
+      else edit({ op: 'move_singularity', id: from.id, to: hit.point.toArray() });
     }
   }
 });
@@ -440,6 +462,7 @@ async function start() {
 // For tests and scripts: where the visible singularities are on screen.
 window.studio = {
   singularitiesOnScreen: () => state.singularities.map((s) => ({ ...s, ...screenOf(s.position) })),
+  elementsOnScreen: () => state.elements.map((e) => ({ ...e, ...screenOf(e.position) })),
   state: () => state,
 };
 start().catch((e) => setStatus(e.message, true));

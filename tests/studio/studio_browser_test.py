@@ -97,6 +97,18 @@ output: bunny.png
         print(f"element added at the canvas centre ({hits[0] // 2}, {hits[1] // 2}): {n0} -> {n1} singularities")
         assert n1 != n0, "adding a +1 element did not change the singularity count"
 
+        # Drag the element 40 px to the right: it moves there (on the surface).
+        driver.find_element(By.ID, "mode-move").click()
+        el = driver.execute_script("return window.studio.elementsOnScreen()")[0]
+        old = el["position"]
+        w, h = hits
+        (ActionChains(driver).move_to_element_with_offset(canvas, int(el["x"] - w / 2), int(el["y"] - h / 2))
+         .click_and_hold().move_by_offset(20, 0).move_by_offset(20, 0).release().perform())
+        wait.until(lambda d: d.execute_script("return window.studio.state().elements")[0]["position"] != old)
+        moved = driver.execute_script("return window.studio.elementsOnScreen()")[0]
+        print(f"element dragged from ({el['x']:.0f}, {el['y']:.0f}) to ({moved['x']:.0f}, {moved['y']:.0f})")
+        assert abs(moved["x"] - el["x"] - 40) < 3 and abs(moved["y"] - el["y"]) < 3, (el, moved)
+
         # Cancel the closest visible opposite pair by clicking the two dots.
         driver.find_element(By.ID, "mode-cancel").click()
         sings = [s for s in driver.execute_script("return window.studio.singularitiesOnScreen()") if s["visible"]]
@@ -106,7 +118,6 @@ output: bunny.png
                         for a in pos for b in neg
                         if (a["x"] - b["x"]) ** 2 + (a["y"] - b["y"]) ** 2 > 12 ** 2), key=lambda t: t[0])
         assert pairs, "no visible opposite pair to cancel"
-        w, h = hits
         before = count()
         for _, a, b in pairs[:5]:
             for s in (a, b):
