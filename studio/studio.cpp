@@ -87,6 +87,8 @@ void putF32(std::string &out, double v) {
 }
 
 std::string normalBytes(const field::TangentFrames &frames); // below
+void updateDirections(const field::TangentFrames &frames, const field::RosyField &f, std::vector<float> &dirs,
+                      const field::RosyField *previous); // below
 
 int elementIndex(const json &j, size_t count) {
     const int i = integer(j, "index");
@@ -107,6 +109,8 @@ struct Studio::State {
     std::vector<Vec3> moveFrom;
     field::RosyField field;
     field::SingularityReport singularities;
+    /// f32 first member direction per vertex (the field response's first half).
+    std::vector<float> directions;
 };
 
 Studio::Studio(const std::string &scenePath, const StudioOptions &options) : m_path(scenePath), m_options(options) {
@@ -160,7 +164,10 @@ void Studio::rebuild(State &s) const {
         }
     }
     s.singularities = field::findSingularities(frames, f);
+    // Directions: only where the field changed from the state `s` was copied from.
+    const field::RosyField previous = std::move(s.field);
     s.field = std::move(f);
+    updateDirections(frames, s.field, s.directions, previous.u.size() == s.field.u.size() ? &previous : nullptr);
 }
 
 void Studio::push(State next) {
@@ -279,6 +286,7 @@ std::string Studio::edit(const std::string &body) {
         // The same as rebuild() would do: the new edit applied to the current field.
         field::applyFieldEdits(frames, next.field, {next.block.edits.back()});
         next.singularities = field::findSingularities(frames, next.field);
+        updateDirections(frames, next.field, next.directions, &m_state->field);
     } else {
         rebuild(next);
     }
@@ -319,21 +327,31 @@ json singularityList(const std::vector<field::Singularity> &sings) {
     return list;
 }
 
-/// The field's binary form; `normals` is the constant second half (f32 normals).
-std::string fieldBytes(const field::TangentFrames &frames, const field::RosyField &f, const std::string &normals) {
+/// Unit world direction of each vertex's first member (zero where the field
+/// vanishes). With `previous` (the field the directions were computed for), only the
+/// vertices whose representation vector changed are recomputed: an edit changes a
+/// small region and leaves the rest bit for bit (field/editing.h).
+void updateDirections(const field::TangentFrames &frames, const field::RosyField &f, std::vector<float> &dirs,
+                      const field::RosyField *previous) {
     const int nV = frames.mesh().nVertices();
-    std::string out;
-    out.reserve(16 + size_t(nV) * 12 + normals.size());
-    out += "RSF1";
-    putU32(out, uint32_t(nV));
-    putU32(out, uint32_t(f.nSym));
-    putU32(out, 0);
-    std::vector<float> dirs(3 * size_t(nV), 0.0f);
+    const bool all = !previous || previous->nSym != f.nSym || dirs.size() != 3 * size_t(nV);
+    if (all) dirs.assign(3 * size_t(nV), 0.0f);
     parallelFor(0, nV, [&](int64_t v) {
-        if (std::abs(f.u[v]) <= 1e-12) return;
-        const Vec3 d = frames.tangentOfAngle(int(v), field::memberAngle(f.u[v], f.nSym)).normalized();
+        if (!all && f.u[v] == previous->u[v]) return;
+        Vec3 d = Vec3::Zero();
+        if (std::abs(f.u[v]) > 1e-12) d = frames.tangentOfAngle(int(v), field::memberAngle(f.u[v], f.nSym)).normalized();
         for (int c = 0; c < 3; ++c) dirs[3 * v + c] = float(d[c]);
     });
+}
+
+/// The field's binary form; `normals` is the constant second half (f32 normals).
+std::string fieldBytes(const field::RosyField &f, const std::vector<float> &dirs, const std::string &normals) {
+    std::string out;
+    out.reserve(16 + dirs.size() * sizeof(float) + normals.size());
+    out += "RSF1";
+    putU32(out, uint32_t(dirs.size() / 3));
+    putU32(out, uint32_t(f.nSym));
+    putU32(out, 0);
     out.append(reinterpret_cast<const char *>(dirs.data()), dirs.size() * sizeof(float));
     out += normals;
     return out;
@@ -409,7 +427,7 @@ std::string Studio::editResponse() const {
     std::string out = "RSE1";
     putU32(out, uint32_t(state.size()));
     out += state;
-    out += fieldBytes(*m_loaded.frames, m_state->field, m_normalBytes);
+    out += fieldBytes(m_state->field, m_state->directions, m_normalBytes);
     return out;
 }
 
@@ -430,7 +448,7 @@ std::string Studio::meshBinary() const {
 
 std::string Studio::fieldBinary() const {
     std::lock_guard lock(m_mutex);
-    return fieldBytes(*m_loaded.frames, m_state->field, m_normalBytes);
+    return fieldBytes(m_state->field, m_state->directions, m_normalBytes);
 }
 
 std::string Studio::singularitiesJson() const {

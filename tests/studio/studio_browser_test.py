@@ -94,7 +94,8 @@ output: bunny.png
         ActionChains(driver).move_to_element(canvas).click().perform()
         wait.until(lambda d: len(d.execute_script("return window.studio.state().elements")) == 1)
         n1 = count()
-        print(f"element added at the canvas centre ({hits[0] // 2}, {hits[1] // 2}): {n0} -> {n1} singularities")
+        print(f"element added at the canvas centre ({hits[0] // 2}, {hits[1] // 2}): {n0} -> {n1} singularities; "
+              f"page: {driver.find_element(By.ID, 'status').text}")
         assert n1 != n0, "adding a +1 element did not change the singularity count"
 
         # Drag the element 40 px to the right: it moves there (on the surface).
@@ -124,7 +125,8 @@ output: bunny.png
                 ActionChains(driver).move_to_element_with_offset(canvas, int(s["x"] - w / 2), int(s["y"] - h / 2)).click().perform()
             try:
                 WebDriverWait(driver, 20).until(lambda d: count() == before - 2)
-                print(f"cancelled {a['id']} and {b['id']}: {before} -> {count()} singularities")
+                print(f"cancelled {a['id']} and {b['id']}: {before} -> {count()} singularities; "
+                      f"page: {driver.find_element(By.ID, 'status').text}")
                 break
             except Exception:
                 print("status:", driver.find_element(By.ID, "status").text)

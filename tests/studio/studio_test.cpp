@@ -455,6 +455,9 @@ TEST_F(Studio, SavedSceneRendersExactlyThePreview) {
     EXPECT_NE(text.find("# a comment the save keeps"), std::string::npos);
     EXPECT_NE(text.find("cancel_near"), std::string::npos);
     EXPECT_NE(text.find("elements:"), std::string::npos);
+    // The field sent after the edits (directions updated where they changed) is the
+    // field of the saved scene built from scratch.
+    EXPECT_TRUE(rosy::studio::Studio(savedPath.string()).fieldBinary() == client->Get("/api/field")->body);
     for (const auto &entry : fs::directory_iterator(dir))
         EXPECT_EQ(entry.path().filename().string().rfind(".rosyhatch-", 0), std::string::npos) << entry.path();
 
