@@ -180,7 +180,7 @@ TEST(DiffCli, ComparesRosyhatchExrChannels) {
     ASSERT_EQ(run("render t2.yaml -o t2.exr --quiet", "t2").exitCode, 0);
     const CliRun same = run("diff t4.exr t4.exr", "exr-same");
     EXPECT_EQ(same.exitCode, 0) << same.out;
-    for (const char *channel : {"tone.target", "ink.hatch0", "depth", "normal", "field.angle0", "mask"})
+    for (const char *channel : {"tone.target", "ink.hatch0", "ink.hidden", "Z ", "normal", "field.cos/sin", "field.angle0", "mask"})
         EXPECT_NE(same.out.find(channel), std::string::npos) << channel << "\n" << same.out;
     const CliRun other = run("diff t4.exr t2.exr", "exr-other");
     EXPECT_EQ(other.exitCode, 2) << other.out;
