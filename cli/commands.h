@@ -35,6 +35,9 @@ void addCompareCommand(CLI::App &app, Action &action);
 /// Adds `rosyhatch studio SCENE.yaml` (the local web page for field design, docs/studio.md).
 void addStudioCommand(CLI::App &app, Action &action);
 
+/// Adds `rosyhatch remesh SCENE_OR_MESH -o OUT` (field-aligned quad / triangle remeshing).
+void addRemeshCommand(CLI::App &app, Action &action);
+
 /// Adds the repeatable `--set dotted.key=VALUE` scene override (see scenes::parseSceneFile).
 void addSetOption(CLI::App &sub, std::vector<std::string> &overrides);
 

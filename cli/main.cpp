@@ -38,6 +38,7 @@ int main(int argc, char **argv) {
     rosy::cli::addDiffCommand(app, action);
     rosy::cli::addCompareCommand(app, action);
     rosy::cli::addStudioCommand(app, action);
+    rosy::cli::addRemeshCommand(app, action);
 
     // The command line as strings, with diff's idiff spellings made ours.
     std::vector<std::string> args(argv, argv + argc);

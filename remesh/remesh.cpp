@@ -1,0 +1,483 @@
+/// \file remesh.cpp
+/// Position field and extraction (see remesh.h and docs/remeshing.md). Written
+/// from the description in Jakob, Tarini, Panozzo, Sorkine-Hornung 2015; the
+/// orientation field is ours (the pipeline's N-RoSy field), only positions are solved.
+
+#include "remesh/remesh.h"
+
+#include "core/error.h"
+#include "remesh/aabb_tree.h"
+
+#include <OpenMesh/Core/Utils/Noncopyable.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <set>
+
+namespace rosy::remesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+/// The local lattice of one vertex: origin o, first axis q (unit, tangent), normal n.
+/// N = 4: squares spanned by q and n×q; N = 6: triangles spanned by q and q turned by 60°.
+struct Lattice {
+    int nSym = 4;
+    double s = 1; ///< spacing L
+
+    Vec3 second(const Vec3 &q, const Vec3 &n) const {
+        const Vec3 w = n.cross(q);
+        return nSym == 4 ? w : Vec3(0.5 * q + (std::sqrt(3.0) / 2) * w);
+    }
+    /// Lattice coordinates (in units of s) of tangent vector d.
+    Eigen::Vector2d coords(const Vec3 &d, const Vec3 &q, const Vec3 &n) const {
+        const Vec3 w = n.cross(q);
+        if (nSym == 4) return {q.dot(d) / s, w.dot(d) / s};
+        const double b = w.dot(d) * (2 / std::sqrt(3.0));
+        return {(q.dot(d) - 0.5 * b) / s, b / s};
+    }
+    Vec3 floorPoint(const Vec3 &o, const Vec3 &q, const Vec3 &n, const Vec3 &p) const {
+        const Eigen::Vector2d c = coords(p - o, q, n);
+        return o + std::floor(c.x()) * s * q + std::floor(c.y()) * s * second(q, n);
+    }
+    Vec3 roundPoint(const Vec3 &o, const Vec3 &q, const Vec3 &n, const Vec3 &p) const {
+        const Eigen::Vector2d c = coords(p - o, q, n);
+        return o + std::round(c.x()) * s * q + std::round(c.y()) * s * second(q, n);
+    }
+    Eigen::Vector2i roundIndex(const Vec3 &d, const Vec3 &q, const Vec3 &n) const {
+        const Eigen::Vector2d c = coords(d, q, n);
+        return {int(std::lround(c.x())), int(std::lround(c.y()))};
+    }
+    /// Of the N rotations of q1 about n1, the one closest to q0.
+    Vec3 compatOrientation(const Vec3 &q0, const Vec3 &q1, const Vec3 &n1) const {
+        const Vec3 w1 = n1.cross(q1);
+        Vec3 best = q1;
+        double bestDot = q0.dot(q1);
+        for (int k = 1; k < nSym; ++k) {
+            const double a = 2 * M_PI * k / nSym;
+            const Vec3 c = std::cos(a) * q1 + std::sin(a) * w1;
+            const double d = q0.dot(c);
+            if (d > bestDot) bestDot = d, best = c;
+        }
+        return best;
+    }
+    /// Is integer offset k one lattice edge?
+    bool isUnit(const Eigen::Vector2i &k) const {
+        const int a = std::abs(k.x()), b = std::abs(k.y());
+        if (a + b == 1) return true;
+        return nSym == 6 && k.x() == -k.y() && a == 1;
+    }
+};
+
+/// The point nearest to the midpoint of p0, p1 that lies in both tangent planes
+/// (x = m + α n0 + β n1 with n0·x = n0·p0 and n1·x = n1·p1, regularized where the
+/// planes are nearly parallel).
+Vec3 middlePoint(const Vec3 &p0, const Vec3 &n0, const Vec3 &p1, const Vec3 &n1) {
+    const Vec3 m = 0.5 * (p0 + p1);
+    const double c = n0.dot(n1);
+    const double r0 = n0.dot(p0 - m), r1 = n1.dot(p1 - m);
+    const double den = 1 - c * c + 1e-4;
+    const double alpha = (r0 - c * r1) / den, beta = (r1 - c * r0) / den;
+    return m + alpha * n0 + beta * n1;
+}
+
+struct Level {
+    std::vector<Vec3> p, n, q, o; ///< position, normal, orientation, lattice point
+    std::vector<double> area;
+    std::vector<int> adjOffset, adj; ///< CSR neighbour lists, sorted
+    std::vector<int> toCoarse;        ///< fine vertex -> vertex of the next level
+    std::vector<char> pinned;
+    int size() const { return int(p.size()); }
+};
+
+/// Closest pair (one corner of each cell around the two tangent planes' middle point)
+/// of the lattices (p0, n0, q0, o0) and (p1, n1, q1, o1); q1 already matched to q0.
+std::pair<Vec3, Vec3> compatPosition(const Lattice &lat, const Vec3 &p0, const Vec3 &n0, const Vec3 &q0,
+                                     const Vec3 &o0, const Vec3 &p1, const Vec3 &n1, const Vec3 &q1,
+                                     const Vec3 &o1) {
+    const Vec3 m = middlePoint(p0, n0, p1, n1);
+    const Vec3 f0 = lat.floorPoint(o0, q0, n0, m), f1 = lat.floorPoint(o1, q1, n1, m);
+    const Vec3 a0 = q0 * lat.s, b0 = lat.second(q0, n0) * lat.s;
+    const Vec3 a1 = q1 * lat.s, b1 = lat.second(q1, n1) * lat.s;
+    double best = std::numeric_limits<double>::infinity();
+    std::pair<Vec3, Vec3> out{f0, f1};
+    for (int i = 0; i < 4; ++i) {
+        const Vec3 c0 = f0 + (i & 1) * a0 + (i >> 1) * b0;
+        for (int j = 0; j < 4; ++j) {
+            const Vec3 c1 = f1 + (j & 1) * a1 + (j >> 1) * b1;
+            const double d = (c0 - c1).squaredNorm();
+            if (d < best) best = d, out = {c0, c1};
+        }
+    }
+    return out;
+}
+
+Vec3 perpendicularUnit(const Vec3 &n) {
+    Vec3 a = std::abs(n.x()) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    return (a - n * n.dot(a)).normalized();
+}
+
+Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field) {
+    const field::Mesh &mesh = frames.mesh();
+    const int nV = mesh.nVertices();
+    Level L;
+    L.p = mesh.positions();
+    L.n.resize(nV);
+    L.q.resize(nV);
+    L.area.assign(nV, 0.0);
+    for (int f = 0; f < mesh.nFaces(); ++f)
+        for (int c : mesh.face(f)) L.area[c] += mesh.faceArea(f) / 3;
+    for (int v = 0; v < nV; ++v) {
+        L.n[v] = frames.normal(v);
+        const double a = std::abs(field.u[v]) > 0 ? field::memberAngle(field.u[v], field.nSym) : 0.0;
+        Vec3 q = frames.tangentOfAngle(v, a);
+        q -= L.n[v] * L.n[v].dot(q);
+        L.q[v] = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(L.n[v]);
+    }
+    std::vector<std::vector<int>> nb(nV);
+    for (int e = 0; e < mesh.nEdges(); ++e) {
+        const int h = mesh.edgeHalfedge(e);
+        nb[mesh.tail(h)].push_back(mesh.head(h));
+        nb[mesh.head(h)].push_back(mesh.tail(h));
+    }
+    L.adjOffset.assign(1, 0);
+    for (auto &list : nb) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        L.adj.insert(L.adj.end(), list.begin(), list.end());
+        L.adjOffset.push_back(int(L.adj.size()));
+    }
+    L.pinned.assign(nV, 0);
+    return L;
+}
+
+/// Pairs neighbours (best aligned normals and similar areas first) into the next level.
+Level coarsen(Level &fine) {
+    const int n = fine.size();
+    struct Cand {
+        double score;
+        int i, j;
+    };
+    std::vector<Cand> cands;
+    for (int i = 0; i < n; ++i)
+        for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
+            const int j = fine.adj[k];
+            if (j <= i) continue;
+            const double ratio = std::min(fine.area[i], fine.area[j]) / std::max(1e-300, std::max(fine.area[i], fine.area[j]));
+            cands.push_back({fine.n[i].dot(fine.n[j]) * ratio, i, j});
+        }
+    std::sort(cands.begin(), cands.end(), [](const Cand &a, const Cand &b) {
+        if (a.score != b.score) return a.score > b.score;
+        return a.i != b.i ? a.i < b.i : a.j < b.j;
+    });
+    std::vector<int> mate(n, -1);
+    for (const Cand &c : cands)
+        if (mate[c.i] < 0 && mate[c.j] < 0) mate[c.i] = c.j, mate[c.j] = c.i;
+    fine.toCoarse.assign(n, -1);
+    Level coarse;
+    for (int i = 0; i < n; ++i) {
+        if (fine.toCoarse[i] >= 0) continue;
+        const int id = coarse.size();
+        fine.toCoarse[i] = id;
+        double a = fine.area[i];
+        Vec3 p = fine.p[i] * fine.area[i], nn = fine.n[i] * fine.area[i];
+        if (mate[i] >= 0) {
+            const int j = mate[i];
+            fine.toCoarse[j] = id;
+            a += fine.area[j];
+            p += fine.p[j] * fine.area[j];
+            nn += fine.n[j] * fine.area[j];
+        }
+        p = a > 0 ? Vec3(p / a) : fine.p[i];
+        nn = nn.norm() > 1e-300 ? Vec3(nn.normalized()) : fine.n[i];
+        Vec3 q = fine.q[i] - nn * nn.dot(fine.q[i]);
+        q = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(nn);
+        coarse.p.push_back(p);
+        coarse.n.push_back(nn);
+        coarse.q.push_back(q);
+        coarse.area.push_back(a);
+    }
+    std::vector<std::vector<int>> nb(coarse.size());
+    for (int i = 0; i < n; ++i)
+        for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
+            const int ci = fine.toCoarse[i], cj = fine.toCoarse[fine.adj[k]];
+            if (ci != cj) nb[ci].push_back(cj);
+        }
+    coarse.adjOffset.assign(1, 0);
+    for (auto &list : nb) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        coarse.adj.insert(coarse.adj.end(), list.begin(), list.end());
+        coarse.adjOffset.push_back(int(coarse.adj.size()));
+    }
+    coarse.pinned.assign(coarse.size(), 0);
+    coarse.o.assign(coarse.size(), Vec3::Zero());
+    for (int i = 0; i < n; ++i)
+        if (fine.pinned[i] && !coarse.pinned[fine.toCoarse[i]]) {
+            const int c = fine.toCoarse[i];
+            coarse.pinned[c] = 1;
+            coarse.o[c] = fine.o[i] - coarse.n[c] * coarse.n[c].dot(fine.o[i] - coarse.p[c]);
+        }
+    return coarse;
+}
+
+/// One Gauss–Seidel sweep of the position field over a level, in vertex order.
+void smoothPositions(Level &L, const Lattice &lat) {
+    for (int i = 0; i < L.size(); ++i) {
+        if (L.pinned[i]) continue;
+        const Vec3 &n = L.n[i], &q = L.q[i], &p = L.p[i];
+        Vec3 o = L.o[i];
+        double weight = 0;
+        for (int k = L.adjOffset[i]; k < L.adjOffset[i + 1]; ++k) {
+            const int j = L.adj[k];
+            const Vec3 qj = lat.compatOrientation(q, L.q[j], L.n[j]);
+            const auto [oi, oj] = compatPosition(lat, p, n, q, o, L.p[j], L.n[j], qj, L.o[j]);
+            o = (oi * weight + oj) / (weight + 1);
+            weight += 1;
+            o -= n * n.dot(o - p);
+        }
+        L.o[i] = lat.roundPoint(o, q, n, p);
+    }
+}
+
+struct UnionFind {
+    std::vector<int> parent;
+    explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+    int find(int x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    void unite(int a, int b) {
+        a = find(a), b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+} // namespace
+
+RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
+                    const field::SingularityReport &singularities, const RemeshOptions &options) {
+    if (field.nSym != 4 && field.nSym != 6)
+        throw InputError(FileLoc{"--symmetry"},
+                         "remeshing needs a 4-RoSy (quads) or 6-RoSy (triangles) field, got N = " +
+                             std::to_string(field.nSym),
+                         "use --symmetry 4 or 6");
+    if (!(options.edgeLength > 0) || !std::isfinite(options.edgeLength))
+        throw InputError(FileLoc{"--edge"}, "the edge length must be positive and finite", "e.g. --edge 0.01");
+    const field::Mesh &mesh = frames.mesh();
+    RemeshResult result;
+    result.nSym = field.nSym;
+    const Lattice lat{field.nSym, options.edgeLength};
+
+    // --- hierarchy
+    auto t0 = Clock::now();
+    std::vector<Level> levels;
+    levels.push_back(finestLevel(frames, field));
+    levels[0].o = levels[0].p;
+    if (options.separatrices)
+        for (const field::Singularity &s : singularities.singularities) {
+            if (std::abs(s.indexNumerator) != 1) continue;
+            for (int v : mesh.face(s.face)) {
+                if (levels[0].pinned[v]) continue;
+                levels[0].pinned[v] = 1;
+                levels[0].o[v] = s.position - levels[0].n[v] * levels[0].n[v].dot(s.position - levels[0].p[v]);
+            }
+        }
+    while (levels.back().size() > 64 && levels.size() < 40) {
+        Level next = coarsen(levels.back());
+        if (next.size() > 0.95 * levels.back().size()) {
+            levels.back().toCoarse.clear();
+            break;
+        }
+        levels.push_back(std::move(next));
+    }
+    result.timingsMs["hierarchy"] = msSince(t0);
+
+    // --- position field, coarse to fine
+    t0 = Clock::now();
+    Level &top = levels.back();
+    for (int i = 0; i < top.size(); ++i)
+        if (!top.pinned[i]) top.o[i] = top.p[i];
+    for (int l = int(levels.size()) - 1; l >= 0; --l) {
+        Level &L = levels[l];
+        if (l + 1 < int(levels.size())) {
+            const Level &C = levels[l + 1];
+            for (int i = 0; i < L.size(); ++i) {
+                if (L.pinned[i]) continue;
+                const Vec3 &oc = C.o[L.toCoarse[i]];
+                L.o[i] = oc - L.n[i] * L.n[i].dot(oc - L.p[i]);
+            }
+        }
+        const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
+        for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat);
+    }
+    result.timingsMs["position"] = msSince(t0);
+
+    // --- extraction: collapse edges within one lattice point, keep unit edges
+    t0 = Clock::now();
+    const Level &F = levels[0];
+    const int nV = F.size();
+    UnionFind uf(nV);
+    std::vector<std::pair<int, int>> unitEdges;
+    for (int i = 0; i < nV; ++i)
+        for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
+            const int j = F.adj[k];
+            if (j <= i) continue;
+            const Vec3 qj = lat.compatOrientation(F.q[i], F.q[j], F.n[j]);
+            const auto [oi, oj] = compatPosition(lat, F.p[i], F.n[i], F.q[i], F.o[i], F.p[j], F.n[j], qj, F.o[j]);
+            const Eigen::Vector2i ki = lat.roundIndex(F.o[i] - oi, F.q[i], F.n[i]);
+            const Eigen::Vector2i kj = lat.roundIndex(F.o[j] - oj, qj, F.n[j]);
+            const Eigen::Vector2i d = kj - ki;
+            if (d.x() == 0 && d.y() == 0) uf.unite(i, j);
+            else if (lat.isUnit(d)) unitEdges.emplace_back(i, j);
+        }
+    // Output vertices: one per cluster, numbered by their smallest member.
+    std::vector<int> cluster(nV, -1);
+    std::vector<Vec3> cp, cn, cq;
+    std::vector<int> count;
+    for (int i = 0; i < nV; ++i) {
+        const int r = uf.find(i);
+        if (cluster[r] < 0) {
+            cluster[r] = int(cp.size());
+            cp.push_back(Vec3::Zero());
+            cn.push_back(Vec3::Zero());
+            cq.push_back(F.q[i]);
+            count.push_back(0);
+        }
+        const int c = cluster[i] = cluster[r];
+        cp[c] += F.o[i];
+        cn[c] += F.n[i] * F.area[i];
+        ++count[c];
+    }
+    const int nC = int(cp.size());
+    const AabbTree tree(mesh);
+    for (int c = 0; c < nC; ++c) {
+        cp[c] = tree.closest(cp[c] / count[c]).point;
+        cn[c] = cn[c].norm() > 0 ? Vec3(cn[c].normalized()) : Vec3(0, 0, 1);
+        cq[c] -= cn[c] * cn[c].dot(cq[c]);
+        cq[c] = cq[c].norm() > 1e-12 ? Vec3(cq[c].normalized()) : perpendicularUnit(cn[c]);
+    }
+    std::vector<std::set<int>> graph(nC);
+    for (const auto &[i, j] : unitEdges) {
+        const int a = cluster[i], b = cluster[j];
+        if (a == b) continue;
+        graph[a].insert(b);
+        graph[b].insert(a);
+    }
+    // Clean the graph: no dangling edges, no vertex of degree 2 (it would be a
+    // valence-2 vertex between two faces): its two edges become one.
+    int dangling = 0, dissolved = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (int v = 0; v < nC; ++v) {
+            if (graph[v].size() == 1) {
+                const int a = *graph[v].begin();
+                graph[a].erase(v);
+                graph[v].clear();
+                ++dangling;
+                changed = true;
+            } else if (graph[v].size() == 2) {
+                const int a = *graph[v].begin(), b = *graph[v].rbegin();
+                graph[a].erase(v);
+                graph[b].erase(v);
+                graph[v].clear();
+                graph[a].insert(b);
+                graph[b].insert(a);
+                ++dissolved;
+                changed = true;
+            }
+        }
+    }
+    result.repairs["dangling_edges_removed"] = dangling;
+    result.repairs["valence2_dissolved"] = dissolved;
+
+    // Neighbours counter-clockwise about each vertex's normal.
+    std::vector<std::vector<int>> ring(nC);
+    for (int v = 0; v < nC; ++v) {
+        const Vec3 w = cn[v].cross(cq[v]);
+        std::vector<std::pair<double, int>> byAngle;
+        for (int u : graph[v]) {
+            const Vec3 d = cp[u] - cp[v];
+            byAngle.emplace_back(std::atan2(w.dot(d), cq[v].dot(d)), u);
+        }
+        std::sort(byAngle.begin(), byAngle.end());
+        for (const auto &[a, u] : byAngle) ring[v].push_back(u);
+    }
+    auto slotOf = [&](int v, int u) {
+        return int(std::find(ring[v].begin(), ring[v].end(), u) - ring[v].begin());
+    };
+    // Faces: from u -> v the next vertex is u's clockwise neighbour around v (face on the left).
+    std::vector<std::vector<char>> used(nC);
+    for (int v = 0; v < nC; ++v) used[v].assign(ring[v].size(), 0);
+    const int maxSides = field.nSym == 4 ? 6 : 5;
+    int holes = 0, dropped = 0;
+    std::vector<std::vector<int>> polygons;
+    std::vector<Vec3> positions = cp;
+    for (int v0 = 0; v0 < nC; ++v0)
+        for (int s0 = 0; s0 < int(ring[v0].size()); ++s0) {
+            if (used[v0][s0]) continue;
+            std::vector<int> face;
+            int v = v0, s = s0;
+            while (!used[v][s]) {
+                used[v][s] = 1;
+                face.push_back(v);
+                const int u = v;
+                v = ring[u][s];
+                const int back = slotOf(v, u);
+                const int deg = int(ring[v].size());
+                s = (back + deg - 1) % deg;
+            }
+            std::vector<int> sorted = face;
+            std::sort(sorted.begin(), sorted.end());
+            const bool simple = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+            if (!simple || face.size() < 3) {
+                ++dropped;
+                continue;
+            }
+            if (int(face.size()) <= maxSides) {
+                polygons.push_back(face);
+                continue;
+            }
+            // A hole: a fan of triangles around its centroid put on the surface.
+            Vec3 c = Vec3::Zero();
+            for (int x : face) c += cp[x];
+            const int centre = int(positions.size());
+            positions.push_back(tree.closest(c / double(face.size())).point);
+            for (size_t k = 0; k < face.size(); ++k) polygons.push_back({centre, face[k], face[(k + 1) % face.size()]});
+            ++holes;
+        }
+    result.repairs["holes_filled"] = holes;
+    result.repairs["faces_dropped"] = dropped;
+
+    // Into OpenMesh; compact away the vertices no polygon uses.
+    std::vector<int> newId(positions.size(), -1);
+    for (const auto &poly : polygons)
+        for (int x : poly)
+            if (newId[x] < 0) newId[x] = 0;
+    for (size_t x = 0; x < positions.size(); ++x)
+        if (newId[x] == 0) {
+            newId[x] = int(result.positions.size());
+            result.positions.push_back(positions[x]);
+        }
+    std::vector<field::PolyMesh::VertexHandle> handles;
+    for (const Vec3 &p : result.positions) handles.push_back(result.poly.add_vertex({p.x(), p.y(), p.z()}));
+    int refused = 0;
+    omerr().disable();
+    for (const auto &poly : polygons) {
+        std::vector<field::PolyMesh::VertexHandle> vh;
+        std::vector<int> ids;
+        for (int x : poly) vh.push_back(handles[newId[x]]), ids.push_back(newId[x]);
+        if (result.poly.add_face(vh).is_valid()) result.polygons.push_back(ids);
+        else ++refused;
+    }
+    omerr().enable();
+    result.repairs["faces_refused_by_openmesh"] = refused;
+    result.timingsMs["extraction"] = msSince(t0);
+    return result;
+}
+
+} // namespace rosy::remesh
