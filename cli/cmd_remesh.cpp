@@ -117,20 +117,10 @@ void runRemesh(const RemeshCliOptions &opt) {
     // Edits name singularities of the scene's own field: only with its own N.
     popt.applyEdits = nSym == sceneSym;
     double edgeLength = 0;
-    int subdivisions = 0;
-    // The position field needs input edges shorter than L: split coarse meshes first.
     popt.afterLoad = [&](scenes::Scene &scene) {
         field::Vec3 lo, hi;
         scene.mesh.bounds(lo, hi);
         edgeLength = edge.resolve((hi - lo).norm());
-        while (scene.mesh.meanEdgeLength() > 0.5 * edgeLength) {
-            if (4LL * scene.mesh.nFaces() > opt.common.maxFaces)
-                throw InputError(FileLoc{"--edge"},
-                                 "the edge length is so short that the mesh would need more than --max-faces faces",
-                                 "give a longer --edge");
-            scene.mesh = field::subdivideMidpoint(scene.mesh);
-            ++subdivisions;
-        }
     };
     if (!opt.common.quiet) popt.onStage = [](const std::string &stage, double ms) {
         std::fprintf(stderr, "  %s %.0f ms\n", stage.c_str(), ms);
@@ -142,6 +132,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     remesh::RemeshOptions ropt;
     ropt.edgeLength = edgeLength;
     ropt.separatrices = opt.separatrices == "on";
+    ropt.maxVertices = opt.common.maxFaces;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
     const double remeshMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -173,7 +164,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("method", "position-field");
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
-        json.field("separatrices", ropt.separatrices).field("input_subdivisions", subdivisions).endObject();
+        json.field("separatrices", ropt.separatrices).endObject();
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
         json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
         json.key("repairs").beginObject();

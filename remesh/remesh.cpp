@@ -12,10 +12,13 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <numeric>
 #include <set>
+#include <unordered_map>
 
 namespace rosy::remesh {
 namespace {
@@ -55,11 +58,14 @@ struct Lattice {
     /// Of the N rotations of q1 about n1, the one closest to q0.
     Vec3 compatOrientation(const Vec3 &q0, const Vec3 &q1, const Vec3 &n1) const {
         const Vec3 w1 = n1.cross(q1);
+        static const double c6[6] = {1, 0.5, -0.5, -1, -0.5, 0.5};
+        static const double s6[6] = {0, 0.8660254037844386, 0.8660254037844386, 0, -0.8660254037844386,
+                                     -0.8660254037844386};
+        static const double c4[4] = {1, 0, -1, 0}, s4[4] = {0, 1, 0, -1};
         Vec3 best = q1;
         double bestDot = q0.dot(q1);
         for (int k = 1; k < nSym; ++k) {
-            const double a = 2 * M_PI * k / nSym;
-            const Vec3 c = std::cos(a) * q1 + std::sin(a) * w1;
+            const Vec3 c = nSym == 4 ? Vec3(c4[k] * q1 + s4[k] * w1) : Vec3(c6[k] * q1 + s6[k] * w1);
             const double d = q0.dot(c);
             if (d > bestDot) bestDot = d, best = c;
         }
@@ -99,21 +105,10 @@ struct Level {
 std::pair<Vec3, Vec3> compatPosition(const Lattice &lat, const Vec3 &p0, const Vec3 &n0, const Vec3 &q0,
                                      const Vec3 &o0, const Vec3 &p1, const Vec3 &n1, const Vec3 &q1,
                                      const Vec3 &o1) {
+    // The lattice-0 point nearest the middle, and the lattice-1 point nearest to it.
     const Vec3 m = middlePoint(p0, n0, p1, n1);
-    const Vec3 f0 = lat.floorPoint(o0, q0, n0, m), f1 = lat.floorPoint(o1, q1, n1, m);
-    const Vec3 a0 = q0 * lat.s, b0 = lat.second(q0, n0) * lat.s;
-    const Vec3 a1 = q1 * lat.s, b1 = lat.second(q1, n1) * lat.s;
-    double best = std::numeric_limits<double>::infinity();
-    std::pair<Vec3, Vec3> out{f0, f1};
-    for (int i = 0; i < 4; ++i) {
-        const Vec3 c0 = f0 + (i & 1) * a0 + (i >> 1) * b0;
-        for (int j = 0; j < 4; ++j) {
-            const Vec3 c1 = f1 + (j & 1) * a1 + (j >> 1) * b1;
-            const double d = (c0 - c1).squaredNorm();
-            if (d < best) best = d, out = {c0, c1};
-        }
-    }
-    return out;
+    const Vec3 c0 = lat.roundPoint(o0, q0, n0, m);
+    return {c0, lat.roundPoint(o1, q1, n1, c0)};
 }
 
 Vec3 perpendicularUnit(const Vec3 &n) {
@@ -121,28 +116,85 @@ Vec3 perpendicularUnit(const Vec3 &n) {
     return (a - n * n.dot(a)).normalized();
 }
 
-Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field) {
+/// The finest level: the input's vertices with the field's first member direction,
+/// midpoint-subdivided (in the faces' planes, so the surface is unchanged) until the
+/// mean edge is at most kMaxEdge L, so that no edge jumps over a lattice point.
+/// With `pinTo`, the corners of each singular face (and the subdivision vertices
+/// between two corners of one such face) keep the lattice point at the singularity.
+constexpr double kMaxEdge = 0.5;
+
+Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
+                  const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices, int &subdivisions) {
     const field::Mesh &mesh = frames.mesh();
-    const int nV = mesh.nVertices();
+    const int nV0 = mesh.nVertices();
     Level L;
     L.p = mesh.positions();
-    L.n.resize(nV);
-    L.q.resize(nV);
-    L.area.assign(nV, 0.0);
-    for (int f = 0; f < mesh.nFaces(); ++f)
-        for (int c : mesh.face(f)) L.area[c] += mesh.faceArea(f) / 3;
-    for (int v = 0; v < nV; ++v) {
+    L.n.resize(nV0);
+    L.q.resize(nV0);
+    for (int v = 0; v < nV0; ++v) {
         L.n[v] = frames.normal(v);
         const double a = std::abs(field.u[v]) > 0 ? field::memberAngle(field.u[v], field.nSym) : 0.0;
         Vec3 q = frames.tangentOfAngle(v, a);
         q -= L.n[v] * L.n[v].dot(q);
         L.q[v] = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(L.n[v]);
     }
+    std::vector<int> pinId(nV0, -1); // which singularity a vertex is pinned to
+    for (size_t k = 0; k < pinFaces.size(); ++k)
+        for (int v : mesh.face(pinFaces[k].first))
+            if (pinId[v] < 0) pinId[v] = int(k);
+    std::vector<std::array<int, 3>> tris(mesh.faces().begin(), mesh.faces().end());
+    auto meanEdge = [&] {
+        double sum = 0;
+        for (const auto &t : tris)
+            for (int k = 0; k < 3; ++k) sum += (L.p[t[k]] - L.p[t[(k + 1) % 3]]).norm();
+        return tris.empty() ? 0.0 : sum / (3.0 * double(tris.size()));
+    };
+    subdivisions = 0;
+    while (meanEdge() > kMaxEdge * lat.s) {
+        if (4 * (long long)(L.p.size()) > maxVertices)
+            throw InputError(FileLoc{"--edge"},
+                             "the edge length is too short for this mesh: the remesher would need more than " +
+                                 std::to_string(maxVertices) + " vertices",
+                             "give a longer --edge");
+        ++subdivisions;
+        std::unordered_map<long long, int> mid;
+        mid.reserve(3 * tris.size());
+        auto midpoint = [&](int a, int b) {
+            const long long key = (long long)std::min(a, b) << 32 | (long long)std::max(a, b);
+            auto it = mid.find(key);
+            if (it != mid.end()) return it->second;
+            const int id = int(L.p.size());
+            const Vec3 n = (L.n[a] + L.n[b]).norm() > 1e-12 ? Vec3((L.n[a] + L.n[b]).normalized()) : L.n[a];
+            Vec3 q = L.q[a] + lat.compatOrientation(L.q[a], L.q[b], L.n[b]);
+            q -= n * n.dot(q);
+            L.p.push_back(0.5 * (L.p[a] + L.p[b]));
+            L.n.push_back(n);
+            L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
+            pinId.push_back(pinId[a] >= 0 && pinId[a] == pinId[b] ? pinId[a] : -1);
+            mid.emplace(key, id);
+            return id;
+        };
+        std::vector<std::array<int, 3>> next;
+        next.reserve(4 * tris.size());
+        for (const auto &t : tris) {
+            const int m0 = midpoint(t[0], t[1]), m1 = midpoint(t[1], t[2]), m2 = midpoint(t[2], t[0]);
+            next.push_back({t[0], m0, m2});
+            next.push_back({m0, t[1], m1});
+            next.push_back({m2, m1, t[2]});
+            next.push_back({m0, m1, m2});
+        }
+        tris.swap(next);
+    }
+    const int nV = int(L.p.size());
+    L.area.assign(nV, 0.0);
     std::vector<std::vector<int>> nb(nV);
-    for (int e = 0; e < mesh.nEdges(); ++e) {
-        const int h = mesh.edgeHalfedge(e);
-        nb[mesh.tail(h)].push_back(mesh.head(h));
-        nb[mesh.head(h)].push_back(mesh.tail(h));
+    for (const auto &t : tris) {
+        const double area = 0.5 * (L.p[t[1]] - L.p[t[0]]).cross(L.p[t[2]] - L.p[t[0]]).norm();
+        for (int k = 0; k < 3; ++k) {
+            L.area[t[k]] += area / 3;
+            nb[t[k]].push_back(t[(k + 1) % 3]);
+            nb[t[(k + 1) % 3]].push_back(t[k]);
+        }
     }
     L.adjOffset.assign(1, 0);
     for (auto &list : nb) {
@@ -151,7 +203,14 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         L.adj.insert(L.adj.end(), list.begin(), list.end());
         L.adjOffset.push_back(int(L.adj.size()));
     }
+    L.o = L.p;
     L.pinned.assign(nV, 0);
+    for (int v = 0; v < nV; ++v)
+        if (pinId[v] >= 0) {
+            const Vec3 &target = pinFaces[pinId[v]].second;
+            L.pinned[v] = 1;
+            L.o[v] = target - L.n[v] * L.n[v].dot(target - L.p[v]);
+        }
     return L;
 }
 
@@ -177,29 +236,40 @@ Level coarsen(Level &fine) {
     std::vector<int> mate(n, -1);
     for (const Cand &c : cands)
         if (mate[c.i] < 0 && mate[c.j] < 0) mate[c.i] = c.j, mate[c.j] = c.i;
+    // Every neighbour of a vertex left unmatched is matched (else they would be a
+    // pair): it joins its best-scored neighbour's pair, so each level at least halves.
+    std::vector<int> rep(n);
+    for (int i = 0; i < n; ++i) rep[i] = mate[i] >= 0 ? std::min(i, mate[i]) : -1;
+    for (const Cand &c : cands) {
+        if (mate[c.i] < 0 && rep[c.i] < 0) rep[c.i] = rep[c.j];
+        if (mate[c.j] < 0 && rep[c.j] < 0) rep[c.j] = rep[c.i];
+    }
+    for (int i = 0; i < n; ++i)
+        if (rep[i] < 0) rep[i] = i; // isolated
     fine.toCoarse.assign(n, -1);
     Level coarse;
+    std::vector<int> idOfRep(n, -1);
+    std::vector<Vec3> sumP, sumN;
     for (int i = 0; i < n; ++i) {
-        if (fine.toCoarse[i] >= 0) continue;
-        const int id = coarse.size();
-        fine.toCoarse[i] = id;
-        double a = fine.area[i];
-        Vec3 p = fine.p[i] * fine.area[i], nn = fine.n[i] * fine.area[i];
-        if (mate[i] >= 0) {
-            const int j = mate[i];
-            fine.toCoarse[j] = id;
-            a += fine.area[j];
-            p += fine.p[j] * fine.area[j];
-            nn += fine.n[j] * fine.area[j];
+        int &id = idOfRep[rep[i]];
+        if (id < 0) {
+            id = coarse.size();
+            coarse.p.push_back(Vec3::Zero());
+            coarse.n.push_back(Vec3::Zero());
+            coarse.q.push_back(fine.q[rep[i]]);
+            coarse.area.push_back(0);
         }
-        p = a > 0 ? Vec3(p / a) : fine.p[i];
-        nn = nn.norm() > 1e-300 ? Vec3(nn.normalized()) : fine.n[i];
-        Vec3 q = fine.q[i] - nn * nn.dot(fine.q[i]);
+        fine.toCoarse[i] = id;
+        coarse.p[id] += fine.p[i] * fine.area[i];
+        coarse.n[id] += fine.n[i] * fine.area[i];
+        coarse.area[id] += fine.area[i];
+    }
+    for (int c = 0; c < coarse.size(); ++c) {
+        Vec3 &p = coarse.p[c], &nn = coarse.n[c], &q = coarse.q[c];
+        p = coarse.area[c] > 0 ? Vec3(p / coarse.area[c]) : fine.p[c];
+        nn = nn.norm() > 1e-300 ? Vec3(nn.normalized()) : Vec3(0, 0, 1);
+        q -= nn * nn.dot(q);
         q = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(nn);
-        coarse.p.push_back(p);
-        coarse.n.push_back(nn);
-        coarse.q.push_back(q);
-        coarse.area.push_back(a);
     }
     std::vector<std::vector<int>> nb(coarse.size());
     for (int i = 0; i < n; ++i)
@@ -257,6 +327,77 @@ struct UnionFind {
     }
 };
 
+/// N = 4: two triangles sharing an edge become one quad (their union), greedily in
+/// face order. Polygons are rewritten in place (merged ones removed).
+void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions, int nSym,
+                        std::map<std::string, int> &repairs) {
+    int merged = 0;
+    if (nSym == 4) {
+        std::map<std::pair<int, int>, int> triByEdge; // directed edge -> triangle
+        for (int f = 0; f < int(polygons.size()); ++f)
+            if (polygons[f].size() == 3)
+                for (int k = 0; k < 3; ++k) triByEdge[{polygons[f][k], polygons[f][(k + 1) % 3]}] = f;
+        std::vector<char> gone(polygons.size(), 0), touched(polygons.size(), 0);
+        for (int f = 0; f < int(polygons.size()); ++f) {
+            if (polygons[f].size() != 3 || touched[f]) continue;
+            // the longest edge first: two half-squares share their diagonal
+            int order[3] = {0, 1, 2};
+            auto len = [&](int k) {
+                return (positions[polygons[f][k]] - positions[polygons[f][(k + 1) % 3]]).squaredNorm();
+            };
+            std::sort(order, order + 3, [&](int x, int y) { return len(x) > len(y) || (len(x) == len(y) && x < y); });
+            for (int k : order) {
+                const int a = polygons[f][k], b = polygons[f][(k + 1) % 3], c = polygons[f][(k + 2) % 3];
+                auto it = triByEdge.find({b, a});
+                if (it == triByEdge.end() || touched[it->second] || it->second == f) continue;
+                const std::vector<int> &g = polygons[it->second];
+                int d = -1;
+                for (int x : g)
+                    if (x != a && x != b) d = x;
+                if (d < 0 || d == c) continue;
+                gone[it->second] = touched[it->second] = touched[f] = 1;
+                polygons[f] = {a, d, b, c};
+                ++merged;
+                break;
+            }
+        }
+        std::vector<std::vector<int>> kept;
+        for (size_t f = 0; f < polygons.size(); ++f)
+            if (!gone[f]) kept.push_back(std::move(polygons[f]));
+        polygons.swap(kept);
+    }
+    repairs["triangle_pairs_merged"] = merged;
+}
+
+/// A few rounds of tangential smoothing: each vertex moves halfway to the mean of
+/// its neighbours, then back onto the input surface.
+void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const AabbTree &tree,
+                   std::map<std::string, int> &repairs) {
+    const int rounds = 2;
+    std::vector<std::vector<int>> nb(positions.size());
+    for (const auto &poly : polygons)
+        for (size_t k = 0; k < poly.size(); ++k) {
+            nb[poly[k]].push_back(poly[(k + 1) % poly.size()]);
+            nb[poly[(k + 1) % poly.size()]].push_back(poly[k]);
+        }
+    for (auto &list : nb) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+    for (int r = 0; r < rounds; ++r) {
+        std::vector<Vec3> next = positions;
+        for (size_t v = 0; v < positions.size(); ++v) {
+            if (nb[v].empty()) continue;
+            Vec3 mean = Vec3::Zero();
+            for (int u : nb[v]) mean += positions[u];
+            mean /= double(nb[v].size());
+            next[v] = tree.closest(0.5 * (positions[v] + mean)).point;
+        }
+        positions.swap(next);
+    }
+    repairs["relaxation_rounds"] = rounds;
+}
+
 } // namespace
 
 RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
@@ -276,17 +417,13 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     // --- hierarchy
     auto t0 = Clock::now();
     std::vector<Level> levels;
-    levels.push_back(finestLevel(frames, field));
-    levels[0].o = levels[0].p;
+    std::vector<std::pair<int, Vec3>> pinFaces;
     if (options.separatrices)
-        for (const field::Singularity &s : singularities.singularities) {
-            if (std::abs(s.indexNumerator) != 1) continue;
-            for (int v : mesh.face(s.face)) {
-                if (levels[0].pinned[v]) continue;
-                levels[0].pinned[v] = 1;
-                levels[0].o[v] = s.position - levels[0].n[v] * levels[0].n[v].dot(s.position - levels[0].p[v]);
-            }
-        }
+        for (const field::Singularity &sg : singularities.singularities)
+            if (std::abs(sg.indexNumerator) == 1) pinFaces.emplace_back(sg.face, sg.position);
+    int subdivisions = 0;
+    levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices, subdivisions));
+    result.repairs["input_subdivisions"] = subdivisions;
     while (levels.back().size() > 64 && levels.size() < 40) {
         Level next = coarsen(levels.back());
         if (next.size() > 0.95 * levels.back().size()) {
@@ -296,6 +433,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         levels.push_back(std::move(next));
     }
     result.timingsMs["hierarchy"] = msSince(t0);
+    if (std::getenv("ROSY_REMESH_DEBUG"))
+        for (const Level &L : levels) std::fprintf(stderr, "level %d vertices %zu adjacency\n", L.size(), L.adj.size());
 
     // --- position field, coarse to fine
     t0 = Clock::now();
@@ -312,7 +451,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 L.o[i] = oc - L.n[i] * L.n[i].dot(oc - L.p[i]);
             }
         }
-        const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
+        int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
+        if (const char *env = std::getenv("ROSY_REMESH_SWEEPS")) {
+            int a = 0, b = 0, c = 0;
+            if (std::sscanf(env, "%d,%d,%d", &a, &b, &c) == 3) sweeps = l == 0 ? a : l == 1 ? b : c;
+        }
         for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat);
     }
     result.timingsMs["position"] = msSince(t0);
@@ -414,7 +557,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     std::vector<std::vector<char>> used(nC);
     for (int v = 0; v < nC; ++v) used[v].assign(ring[v].size(), 0);
     const int maxSides = field.nSym == 4 ? 6 : 5;
-    int holes = 0, dropped = 0;
+    int holes = 0, dropped = 0, split = 0;
     std::vector<std::vector<int>> polygons;
     std::vector<Vec3> positions = cp;
     for (int v0 = 0; v0 < nC; ++v0)
@@ -431,25 +574,41 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 const int deg = int(ring[v].size());
                 s = (back + deg - 1) % deg;
             }
-            std::vector<int> sorted = face;
-            std::sort(sorted.begin(), sorted.end());
-            const bool simple = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
-            if (!simple || face.size() < 3) {
-                ++dropped;
-                continue;
+            // A face through a vertex twice is two loops meeting there: split it.
+            std::vector<std::vector<int>> loops{face};
+            for (size_t k = 0; k < loops.size(); ++k) {
+                for (size_t i = 0; i < loops[k].size(); ++i) {
+                    std::vector<int> &f = loops[k];
+                    const auto again = std::find(f.begin() + long(i) + 1, f.end(), f[i]);
+                    if (again == f.end()) continue;
+                    std::vector<int> sub(f.begin() + long(i), again);
+                    f.erase(f.begin() + long(i), again);
+                    loops.push_back(std::move(sub)); // f is not used after this
+                    ++split;
+                    i = size_t(-1); // rescan what is left
+                }
             }
-            if (int(face.size()) <= maxSides) {
-                polygons.push_back(face);
-                continue;
+            for (const std::vector<int> &f : loops) {
+                if (f.size() < 3) {
+                    ++dropped;
+                    continue;
+                }
+                if (int(f.size()) <= maxSides) {
+                    polygons.push_back(f);
+                    continue;
+                }
+                // A hole: a fan of triangles around its centroid put on the surface.
+                Vec3 c = Vec3::Zero();
+                for (int x : f) c += cp[x];
+                const int centre = int(positions.size());
+                positions.push_back(tree.closest(c / double(f.size())).point);
+                for (size_t k2 = 0; k2 < f.size(); ++k2) polygons.push_back({centre, f[k2], f[(k2 + 1) % f.size()]});
+                ++holes;
             }
-            // A hole: a fan of triangles around its centroid put on the surface.
-            Vec3 c = Vec3::Zero();
-            for (int x : face) c += cp[x];
-            const int centre = int(positions.size());
-            positions.push_back(tree.closest(c / double(face.size())).point);
-            for (size_t k = 0; k < face.size(); ++k) polygons.push_back({centre, face[k], face[(k + 1) % face.size()]});
-            ++holes;
         }
+    result.repairs["faces_split"] = split;
+    mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
+    relaxVertices(polygons, positions, tree, result.repairs);
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
 

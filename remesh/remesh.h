@@ -36,7 +36,10 @@ struct RemeshOptions {
     bool separatrices = true;
     /// Gauss–Seidel sweeps per hierarchy level, and on the finest level.
     int sweepsPerLevel = 8;
-    int finestSweeps = 24;
+    int finestSweeps = 8;
+    /// The input is subdivided until its mean edge is at most L / 2; more vertices
+    /// than this are refused (InputError: the edge length is too short).
+    long long maxVertices = 20'000'000;
 };
 
 /// The polygon mesh and what it cost.
