@@ -12,8 +12,6 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -150,8 +148,17 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         return tris.empty() ? 0.0 : sum / (3.0 * double(tris.size()));
     };
     subdivisions = 0;
+    // Refuse before allocating: each subdivision halves the edges and about
+    // quadruples the vertices.
+    const double ratio = meanEdge() / (kMaxEdge * lat.s);
+    const int needed = ratio > 1 ? int(std::ceil(std::log2(ratio))) : 0;
+    if (needed > 15 || double(L.p.size()) * std::pow(4.0, needed) > double(maxVertices))
+        throw InputError(FileLoc{"--edge"},
+                         "the edge length is too short for this mesh: the remesher would need more than " +
+                             std::to_string(maxVertices) + " vertices",
+                         "give a longer --edge");
     while (meanEdge() > kMaxEdge * lat.s) {
-        if (4 * (long long)(L.p.size()) > maxVertices)
+        if (4 * (long long)(L.p.size()) > 4 * maxVertices)
             throw InputError(FileLoc{"--edge"},
                              "the edge length is too short for this mesh: the remesher would need more than " +
                                  std::to_string(maxVertices) + " vertices",
@@ -367,13 +374,64 @@ void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vect
         polygons.swap(kept);
     }
     repairs["triangle_pairs_merged"] = merged;
+    // N = 6: quads split along their shorter diagonal (unless it is already an edge).
+    int splitQuads = 0;
+    if (nSym == 6) {
+        std::set<std::pair<int, int>> edges;
+        for (const auto &poly : polygons)
+            for (size_t k = 0; k < poly.size(); ++k) {
+                const int a = poly[k], b = poly[(k + 1) % poly.size()];
+                edges.insert({std::min(a, b), std::max(a, b)});
+            }
+        std::vector<std::vector<int>> out;
+        for (auto &poly : polygons) {
+            if (poly.size() != 4) {
+                out.push_back(std::move(poly));
+                continue;
+            }
+            const int s0 = (positions[poly[0]] - positions[poly[2]]).squaredNorm() <=
+                                   (positions[poly[1]] - positions[poly[3]]).squaredNorm()
+                               ? 0
+                               : 1;
+            bool done = false;
+            for (int k : {s0, 1 - s0}) {
+                const int a = poly[k], b = poly[k + 2];
+                if (edges.count({std::min(a, b), std::max(a, b)})) continue;
+                edges.insert({std::min(a, b), std::max(a, b)});
+                out.push_back({poly[k], poly[k + 1], poly[k + 2]});
+                out.push_back({poly[k + 2], poly[(k + 3) % 4], poly[k]});
+                ++splitQuads;
+                done = true;
+                break;
+            }
+            if (!done) out.push_back(std::move(poly));
+        }
+        polygons.swap(out);
+    }
+    repairs["quads_split"] = splitQuads;
 }
 
-/// A few rounds of tangential smoothing: each vertex moves halfway to the mean of
+/// A vertex left with two neighbours (between two faces of four or more sides)
+/// is removed from both: it would be a valence-2 vertex.
+void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, std::map<std::string, int> &repairs) {
+    std::vector<std::vector<int>> facesOf(nVertices);
+    for (int f = 0; f < int(polygons.size()); ++f)
+        for (int v : polygons[f]) facesOf[v].push_back(f);
+    int dissolved = 0;
+    for (int v = 0; v < nVertices; ++v) {
+        if (facesOf[v].size() != 2) continue;
+        const int f = facesOf[v][0], g = facesOf[v][1];
+        if (f == g || polygons[f].size() < 4 || polygons[g].size() < 4) continue;
+        for (int h : {f, g}) polygons[h].erase(std::find(polygons[h].begin(), polygons[h].end(), v));
+        ++dissolved;
+    }
+    repairs["valence2_dissolved_in_faces"] = dissolved;
+}
+
+/// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
 /// its neighbours, then back onto the input surface.
 void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const AabbTree &tree,
-                   std::map<std::string, int> &repairs) {
-    const int rounds = 2;
+                   int rounds, std::map<std::string, int> &repairs) {
     std::vector<std::vector<int>> nb(positions.size());
     for (const auto &poly : polygons)
         for (size_t k = 0; k < poly.size(); ++k) {
@@ -433,8 +491,6 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         levels.push_back(std::move(next));
     }
     result.timingsMs["hierarchy"] = msSince(t0);
-    if (std::getenv("ROSY_REMESH_DEBUG"))
-        for (const Level &L : levels) std::fprintf(stderr, "level %d vertices %zu adjacency\n", L.size(), L.adj.size());
 
     // --- position field, coarse to fine
     t0 = Clock::now();
@@ -451,11 +507,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 L.o[i] = oc - L.n[i] * L.n[i].dot(oc - L.p[i]);
             }
         }
-        int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
-        if (const char *env = std::getenv("ROSY_REMESH_SWEEPS")) {
-            int a = 0, b = 0, c = 0;
-            if (std::sscanf(env, "%d,%d,%d", &a, &b, &c) == 3) sweeps = l == 0 ? a : l == 1 ? b : c;
-        }
+        const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
         for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat);
     }
     result.timingsMs["position"] = msSince(t0);
@@ -608,7 +660,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         }
     result.repairs["faces_split"] = split;
     mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
-    relaxVertices(polygons, positions, tree, result.repairs);
+    dissolveValence2(polygons, int(positions.size()), result.repairs);
+    relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs);
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
 

@@ -37,6 +37,11 @@ struct RemeshOptions {
     /// Gauss–Seidel sweeps per hierarchy level, and on the finest level.
     int sweepsPerLevel = 8;
     int finestSweeps = 8;
+    /// Rounds of smoothing of the output vertices (each halfway to its neighbours'
+    /// mean, then onto the input surface). 0 by measurement on bunny00: one round
+    /// lowers the edge-length CV (0.116 -> 0.105) but raises the distance to the
+    /// surface (0.43 % -> 0.53 % of the diagonal), above the 0.5 % target.
+    int relaxRounds = 0;
     /// The input is subdivided until its mean edge is at most L / 2; more vertices
     /// than this are refused (InputError: the edge length is too short).
     long long maxVertices = 20'000'000;
