@@ -28,7 +28,7 @@ namespace {
 struct RemeshCliOptions {
     std::string input, output, reportPath;
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
-    std::string separatrices = "on";
+    std::string separatrices = "off";
     int symmetry = 4;
     bool symmetryGiven = false;
     std::vector<std::string> overrides;
@@ -197,7 +197,7 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     sub->add_option("--edge", opt->edge, "Target edge length: world units, or N% of the bounding-box diagonal")
         ->capture_default_str();
     sub->add_option("--separatrices", opt->separatrices,
-                    "on: pin the lattice at the singularities so separatrices become edges; off: do not")
+                    "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
         ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
         ->capture_default_str();

@@ -32,8 +32,8 @@ struct RemeshOptions {
     double edgeLength = 0;
     /// Pin the lattice at every singularity of index ±1/N, so that the lattice
     /// lines through it (the separatrices) become mesh edges and the singularity
-    /// one irregular vertex (docs/remeshing.md, "Separatrices").
-    bool separatrices = true;
+    /// one irregular vertex (docs/remeshing.md, "Separatrices": measured worse, so off).
+    bool separatrices = false;
     /// Gauss–Seidel sweeps per hierarchy level, and on the finest level.
     int sweepsPerLevel = 8;
     int finestSweeps = 8;
