@@ -181,18 +181,26 @@ function buildSingularities() {
 
 const raycaster = new THREE.Raycaster();
 
-// Screen position (CSS pixels in the canvas) of a world point, and whether the mesh hides it.
-function screenOf(p) {
+// Screen position (CSS pixels in the canvas) of a world point on face `face`, and
+// whether it is seen: `exact` casts a ray against the mesh (slow on big meshes: no
+// BVH), else the face only has to turn toward the camera (labels, every frame).
+function screenOf(p, face = -1, exact = false) {
   const v = new THREE.Vector3(...p).project(camera);
   const x = (v.x + 1) / 2 * canvas.clientWidth, y = (1 - v.y) / 2 * canvas.clientHeight;
   let visible = v.z < 1 && x >= 0 && y >= 0 && x < canvas.clientWidth && y < canvas.clientHeight;
-  if (visible && meshObject) {
+  if (visible && meshObject && exact) {
     const from = camera.position.clone(), to = new THREE.Vector3(...p);
     const dir = to.clone().sub(from);
     const dist = dir.length();
     raycaster.set(from, dir.normalize());
     const hit = raycaster.intersectObject(meshObject)[0];
     visible = !hit || hit.distance > dist - 2 * dotRadius;
+  } else if (visible && meshData && face >= 0) {
+    const P = meshData.positions, I = meshData.indices;
+    const a = new THREE.Vector3().fromArray(P, 3 * I[3 * face]);
+    const b = new THREE.Vector3().fromArray(P, 3 * I[3 * face + 1]).sub(a);
+    const c = new THREE.Vector3().fromArray(P, 3 * I[3 * face + 2]).sub(a);
+    visible = b.cross(c).dot(camera.position.clone().sub(a)) > 0;
   }
   return { x, y, visible };
 }
@@ -201,7 +209,7 @@ function placeLabels() {
   if (!state) return;
   const spans = $('labels').children;
   state.singularities.forEach((s, i) => {
-    const q = screenOf(s.position);
+    const q = screenOf(s.position, s.face);
     const span = spans[i];
     if (!span) return;
     span.style.display = q.visible ? 'block' : 'none';
@@ -461,8 +469,8 @@ async function start() {
 
 // For tests and scripts: where the visible singularities are on screen.
 window.studio = {
-  singularitiesOnScreen: () => state.singularities.map((s) => ({ ...s, ...screenOf(s.position) })),
-  elementsOnScreen: () => state.elements.map((e) => ({ ...e, ...screenOf(e.position) })),
+  singularitiesOnScreen: () => state.singularities.map((s) => ({ ...s, ...screenOf(s.position, s.face, true) })),
+  elementsOnScreen: () => state.elements.map((e) => ({ ...e, ...screenOf(e.position, -1, true) })),
   state: () => state,
 };
 start().catch((e) => setStatus(e.message, true));

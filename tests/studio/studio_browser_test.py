@@ -5,7 +5,7 @@ tools/setup.sh). Opens the page, waits for the mesh, clicks the bunny to add a
 singular element and sees the singularity count change, cancels a pair by clicking
 two singularities, saves, and renders the saved scene with `rosyhatch render`.
 
-  studio_browser_test.py ROSYHATCH DATA_DIR [--screenshot OUT.png]
+  studio_browser_test.py ROSYHATCH DATA_DIR [--screenshot OUT.png] [--mesh MESH]
 
 Exit 77 (ctest: skipped) with a message when Chromium, its driver or selenium is missing.
 """
@@ -32,7 +32,13 @@ def main():
         i = args.index("--screenshot")
         screenshot = args[i + 1]
         del args[i:i + 2]
+    mesh = None
+    if "--mesh" in args:  # another mesh than bunny00 (timings on big meshes, docs/studio.md)
+        i = args.index("--mesh")
+        mesh = args[i + 1]
+        del args[i:i + 2]
     rosyhatch, data = args
+    mesh = mesh or f"{data}/meshes/bunny00.off"
     chromium = shutil.which("chromium")
     driver_path = shutil.which("chromedriver") or "/usr/bin/chromedriver"
     if not chromium:
@@ -52,7 +58,7 @@ def main():
     scene = os.path.join(work, "bunny.yaml")
     with open(scene, "w") as f:
         f.write(f"""# the default scene's view of the bunny
-mesh: {data}/meshes/bunny00.off
+mesh: {mesh}
 camera:
   auto: true
   direction: [-0.35, 0.3, 1.0]
