@@ -6,6 +6,7 @@
 #include "remesh/remesh.h"
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "remesh/aabb_tree.h"
 
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
@@ -302,23 +303,48 @@ Level coarsen(Level &fine) {
     return coarse;
 }
 
-/// One Gauss–Seidel sweep of the position field over a level, in vertex order.
-void smoothPositions(Level &L, const Lattice &lat) {
+/// Greedy colouring in vertex order (each vertex takes the smallest colour none of
+/// its lower-numbered neighbours has): vertices of one colour are never
+/// neighbours, so they can be updated at the same time. Vertices grouped by
+/// colour, each group in index order.
+std::vector<std::vector<int>> colourClasses(const Level &L) {
+    std::vector<int> colour(L.size(), -1);
+    std::vector<std::vector<int>> classes;
+    std::vector<char> taken;
     for (int i = 0; i < L.size(); ++i) {
-        if (L.pinned[i]) continue;
-        const Vec3 &n = L.n[i], &q = L.q[i], &p = L.p[i];
-        Vec3 o = L.o[i];
-        double weight = 0;
-        for (int k = L.adjOffset[i]; k < L.adjOffset[i + 1]; ++k) {
-            const int j = L.adj[k];
-            const Vec3 qj = lat.compatOrientation(q, L.q[j], L.n[j]);
-            const auto [oi, oj] = compatPosition(lat, p, n, q, o, L.p[j], L.n[j], qj, L.o[j]);
-            o = (oi * weight + oj) / (weight + 1);
-            weight += 1;
-            o -= n * n.dot(o - p);
-        }
-        L.o[i] = lat.roundPoint(o, q, n, p);
+        taken.assign(classes.size() + 1, 0);
+        for (int k = L.adjOffset[i]; k < L.adjOffset[i + 1]; ++k)
+            if (colour[L.adj[k]] >= 0) taken[colour[L.adj[k]]] = 1;
+        int c = 0;
+        while (taken[c]) ++c;
+        colour[i] = c;
+        if (c == int(classes.size())) classes.emplace_back();
+        classes[c].push_back(i);
     }
+    return classes;
+}
+
+/// One Gauss–Seidel sweep of the position field over a level, colour by colour;
+/// within a colour the vertices are independent (parallel, same result for any
+/// thread count).
+void smoothPositions(Level &L, const Lattice &lat, const std::vector<std::vector<int>> &classes) {
+    for (const std::vector<int> &cls : classes)
+        parallelFor(0, int64_t(cls.size()), [&](int64_t idx) {
+            const int i = cls[size_t(idx)];
+            if (L.pinned[i]) return;
+            const Vec3 &n = L.n[i], &q = L.q[i], &p = L.p[i];
+            Vec3 o = L.o[i];
+            double weight = 0;
+            for (int k = L.adjOffset[i]; k < L.adjOffset[i + 1]; ++k) {
+                const int j = L.adj[k];
+                const Vec3 qj = lat.compatOrientation(q, L.q[j], L.n[j]);
+                const auto [oi, oj] = compatPosition(lat, p, n, q, o, L.p[j], L.n[j], qj, L.o[j]);
+                o = (oi * weight + oj) / (weight + 1);
+                weight += 1;
+                o -= n * n.dot(o - p);
+            }
+            L.o[i] = lat.roundPoint(o, q, n, p);
+        }, 512);
 }
 
 struct UnionFind {
@@ -411,20 +437,37 @@ void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vect
     repairs["quads_split"] = splitQuads;
 }
 
-/// A vertex left with two neighbours (between two faces of four or more sides)
-/// is removed from both: it would be a valence-2 vertex.
+/// A vertex left with two neighbours a, b (in exactly two faces) is removed: a
+/// face of four or more sides loses it, a triangle (a, v, b) goes (its third
+/// edge a–b is then shared by the faces on both sides of it). Keeps the mesh
+/// manifold and oriented; valence-2 vertices are a target of issue 20.
 void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, std::map<std::string, int> &repairs) {
     std::vector<std::vector<int>> facesOf(nVertices);
     for (int f = 0; f < int(polygons.size()); ++f)
         for (int v : polygons[f]) facesOf[v].push_back(f);
+    std::vector<char> gone(polygons.size(), 0);
     int dissolved = 0;
     for (int v = 0; v < nVertices; ++v) {
         if (facesOf[v].size() != 2) continue;
         const int f = facesOf[v][0], g = facesOf[v][1];
-        if (f == g || polygons[f].size() < 4 || polygons[g].size() < 4) continue;
-        for (int h : {f, g}) polygons[h].erase(std::find(polygons[h].begin(), polygons[h].end(), v));
+        if (f == g || gone[f] || gone[g]) continue;
+        if (polygons[f].size() == 3 && polygons[g].size() == 3) continue; // a double triangle: leave it
+        for (int h : {f, g}) {
+            if (polygons[h].size() == 3) {
+                gone[h] = 1;
+                for (int x : polygons[h]) // its other two corners no longer list it
+                    if (x != v) facesOf[x].erase(std::find(facesOf[x].begin(), facesOf[x].end(), h));
+            } else {
+                polygons[h].erase(std::find(polygons[h].begin(), polygons[h].end(), v));
+            }
+        }
+        facesOf[v].clear();
         ++dissolved;
     }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (!gone[f]) kept.push_back(std::move(polygons[f]));
+    polygons.swap(kept);
     repairs["valence2_dissolved_in_faces"] = dissolved;
 }
 
@@ -508,7 +551,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
             }
         }
         const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
-        for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat);
+        const std::vector<std::vector<int>> classes = colourClasses(L);
+        for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat, classes);
     }
     result.timingsMs["position"] = msSince(t0);
 
@@ -550,8 +594,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     }
     const int nC = int(cp.size());
     const AabbTree tree(mesh);
+    parallelFor(0, nC, [&](int64_t c) { cp[c] = tree.closest(cp[c] / count[c]).point; });
     for (int c = 0; c < nC; ++c) {
-        cp[c] = tree.closest(cp[c] / count[c]).point;
         cn[c] = cn[c].norm() > 0 ? Vec3(cn[c].normalized()) : Vec3(0, 0, 1);
         cq[c] -= cn[c] * cn[c].dot(cq[c]);
         cq[c] = cq[c].norm() > 1e-12 ? Vec3(cq[c].normalized()) : perpendicularUnit(cn[c]);
@@ -564,68 +608,91 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         graph[b].insert(a);
     }
     // Clean the graph: no dangling edges, no vertex of degree 2 (it would be a
-    // valence-2 vertex between two faces): its two edges become one.
-    int dangling = 0, dissolved = 0;
-    for (bool changed = true; changed;) {
-        changed = false;
-        for (int v = 0; v < nC; ++v) {
-            if (graph[v].size() == 1) {
-                const int a = *graph[v].begin();
-                graph[a].erase(v);
-                graph[v].clear();
-                ++dangling;
-                changed = true;
-            } else if (graph[v].size() == 2) {
-                const int a = *graph[v].begin(), b = *graph[v].rbegin();
-                graph[a].erase(v);
-                graph[b].erase(v);
-                graph[v].clear();
-                graph[a].insert(b);
-                graph[b].insert(a);
-                ++dissolved;
-                changed = true;
+    // valence-2 vertex between two faces): its two edges become one. Then sort
+    // each vertex's neighbours counter-clockwise about its normal and trace the
+    // faces (from u -> v the next vertex is u's clockwise neighbour around v: the
+    // face is on the left). An edge with the same face on both sides (a bridge)
+    // is removed and everything is done again.
+    int dangling = 0, dissolved = 0, bridges = 0;
+    std::vector<std::vector<int>> ring(nC), faces;
+    auto slotOf = [&](int v, int u) {
+        return int(std::find(ring[v].begin(), ring[v].end(), u) - ring[v].begin());
+    };
+    for (int round = 0; round < 16; ++round) {
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int v = 0; v < nC; ++v) {
+                if (graph[v].size() == 1) {
+                    const int a = *graph[v].begin();
+                    graph[a].erase(v);
+                    graph[v].clear();
+                    ++dangling;
+                    changed = true;
+                } else if (graph[v].size() == 2) {
+                    const int a = *graph[v].begin(), b = *graph[v].rbegin();
+                    graph[a].erase(v);
+                    graph[b].erase(v);
+                    graph[v].clear();
+                    graph[a].insert(b);
+                    graph[b].insert(a);
+                    ++dissolved;
+                    changed = true;
+                }
             }
+        }
+        for (int v = 0; v < nC; ++v) {
+            const Vec3 w = cn[v].cross(cq[v]);
+            std::vector<std::pair<double, int>> byAngle;
+            for (int u : graph[v]) {
+                const Vec3 d = cp[u] - cp[v];
+                byAngle.emplace_back(std::atan2(w.dot(d), cq[v].dot(d)), u);
+            }
+            std::sort(byAngle.begin(), byAngle.end());
+            ring[v].clear();
+            for (const auto &[angle, u] : byAngle) ring[v].push_back(u);
+        }
+        std::vector<std::vector<int>> faceOf(nC);
+        for (int v = 0; v < nC; ++v) faceOf[v].assign(ring[v].size(), -1);
+        faces.clear();
+        for (int v0 = 0; v0 < nC; ++v0)
+            for (int s0 = 0; s0 < int(ring[v0].size()); ++s0) {
+                if (faceOf[v0][s0] >= 0) continue;
+                const int id = int(faces.size());
+                std::vector<int> face;
+                int v = v0, s = s0;
+                while (faceOf[v][s] < 0) {
+                    faceOf[v][s] = id;
+                    face.push_back(v);
+                    const int u = v;
+                    v = ring[u][s];
+                    const int back = slotOf(v, u);
+                    const int deg = int(ring[v].size());
+                    s = (back + deg - 1) % deg;
+                }
+                faces.push_back(std::move(face));
+            }
+        std::vector<std::pair<int, int>> bridge;
+        for (int v = 0; v < nC; ++v)
+            for (int s = 0; s < int(ring[v].size()); ++s) {
+                const int u = ring[v][s];
+                if (v < u && faceOf[v][s] == faceOf[u][slotOf(u, v)]) bridge.emplace_back(v, u);
+            }
+        if (bridge.empty()) break;
+        for (const auto &[v, u] : bridge) {
+            graph[v].erase(u);
+            graph[u].erase(v);
+            ++bridges;
         }
     }
     result.repairs["dangling_edges_removed"] = dangling;
     result.repairs["valence2_dissolved"] = dissolved;
+    result.repairs["bridges_removed"] = bridges;
 
-    // Neighbours counter-clockwise about each vertex's normal.
-    std::vector<std::vector<int>> ring(nC);
-    for (int v = 0; v < nC; ++v) {
-        const Vec3 w = cn[v].cross(cq[v]);
-        std::vector<std::pair<double, int>> byAngle;
-        for (int u : graph[v]) {
-            const Vec3 d = cp[u] - cp[v];
-            byAngle.emplace_back(std::atan2(w.dot(d), cq[v].dot(d)), u);
-        }
-        std::sort(byAngle.begin(), byAngle.end());
-        for (const auto &[a, u] : byAngle) ring[v].push_back(u);
-    }
-    auto slotOf = [&](int v, int u) {
-        return int(std::find(ring[v].begin(), ring[v].end(), u) - ring[v].begin());
-    };
-    // Faces: from u -> v the next vertex is u's clockwise neighbour around v (face on the left).
-    std::vector<std::vector<char>> used(nC);
-    for (int v = 0; v < nC; ++v) used[v].assign(ring[v].size(), 0);
     const int maxSides = field.nSym == 4 ? 6 : 5;
     int holes = 0, dropped = 0, split = 0;
     std::vector<std::vector<int>> polygons;
     std::vector<Vec3> positions = cp;
-    for (int v0 = 0; v0 < nC; ++v0)
-        for (int s0 = 0; s0 < int(ring[v0].size()); ++s0) {
-            if (used[v0][s0]) continue;
-            std::vector<int> face;
-            int v = v0, s = s0;
-            while (!used[v][s]) {
-                used[v][s] = 1;
-                face.push_back(v);
-                const int u = v;
-                v = ring[u][s];
-                const int back = slotOf(v, u);
-                const int deg = int(ring[v].size());
-                s = (back + deg - 1) % deg;
-            }
+    for (const std::vector<int> &face : faces) {
             // A face through a vertex twice is two loops meeting there: split it.
             std::vector<std::vector<int>> loops{face};
             for (size_t k = 0; k < loops.size(); ++k) {

@@ -11,8 +11,9 @@
 /// whose endpoints name the same lattice point, keeps those whose endpoints are
 /// neighbouring lattice points, and builds faces from the resulting graph.
 ///
-/// Everything runs on one thread in a fixed order: the output is the same bytes
-/// for any thread count.
+/// The output is the same bytes for any thread count: the position sweeps run
+/// colour by colour (a fixed greedy colouring; vertices of one colour are not
+/// neighbours and are updated in parallel), everything else in a fixed order.
 
 #include "field/frames.h"
 #include "field/mesh/poly_mesh.h"
