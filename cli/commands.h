@@ -32,14 +32,26 @@ void addStylesCommand(CLI::App &app, Action &action);
 /// Adds `rosyhatch compare SCENE.yaml` (labeled side-by-side panels of several fields).
 void addCompareCommand(CLI::App &app, Action &action);
 
+/// Adds `rosyhatch studio SCENE.yaml` (the local web page for field design, docs/studio.md).
+void addStudioCommand(CLI::App &app, Action &action);
+
+/// Adds `rosyhatch remesh SCENE_OR_MESH -o OUT` (field-aligned quad / triangle remeshing).
+void addRemeshCommand(CLI::App &app, Action &action);
+
 /// Adds the repeatable `--set dotted.key=VALUE` scene override (see scenes::parseSceneFile).
 void addSetOption(CLI::App &sub, std::vector<std::string> &overrides);
 
 /// Adds `rosyhatch diff A B` (image comparison with idiff's thresholds and exit codes).
 void addDiffCommand(CLI::App &app, Action &action);
 
+/// For `rosyhatch diff` (args[1] == "diff", args[0] the program): rewrites idiff's
+/// single-dash spellings -fail, -failpercent, -hardfail, -warn and -warnpercent to
+/// ours (--fail, ...) before parsing, up to a `--`. Other command lines are untouched.
+void acceptIdiffSpellings(std::vector<std::string> &args);
+
 /// Thrown by a subcommand whose outcome is not an error but still a nonzero exit
-/// status (diff: 1 warning, 2 failure, as idiff); main() returns `code`.
+/// status (diff: 1 warning, 2 failure, 4 file error, as idiff); main() returns `code`
+/// (the message, if any, is already printed).
 struct ExitWith {
     int code;
 };

@@ -11,8 +11,10 @@
 #include "core/error.h"
 
 #include <csignal>
-#include <new>
 #include <iostream>
+#include <new>
+#include <string>
+#include <vector>
 
 int main(int argc, char **argv) {
     // Past a file size limit (ulimit -f) the kernel would kill us with SIGXFSZ,
@@ -35,9 +37,15 @@ int main(int argc, char **argv) {
     rosy::cli::addStylesCommand(app, action);
     rosy::cli::addDiffCommand(app, action);
     rosy::cli::addCompareCommand(app, action);
+    rosy::cli::addStudioCommand(app, action);
+    rosy::cli::addRemeshCommand(app, action);
 
+    // The command line as strings, with diff's idiff spellings made ours.
+    std::vector<std::string> args(argv, argv + argc);
+    rosy::cli::acceptIdiffSpellings(args);
     try {
-        app.parse(argc, argv);
+        std::vector<std::string> reversed(args.rbegin(), args.rend() - 1); // CLI11 takes them reversed, no argv[0]
+        app.parse(reversed);
     } catch (const CLI::ParseError &e) {
         // --help and --version arrive here as "successful" parse errors.
         int code = app.exit(e);

@@ -19,10 +19,15 @@ add_library(rosy_suitesparse INTERFACE)
 target_include_directories(rosy_suitesparse SYSTEM INTERFACE ${SUITESPARSE_INCLUDE_DIR})
 target_link_libraries(rosy_suitesparse INTERFACE ${CHOLMOD_LIBRARY} ${UMFPACK_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
 
+# rosyhatch studio: Debian's cpp-httplib is a compiled library whose pkg-config file
+# carries the feature macros it was built with (they change its classes' layout).
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+# The studio's request bodies, and the tests reading the JSON the programs write.
+find_package(nlohmann_json 3 REQUIRED)
+
 if(ROSY_BUILD_TESTS)
   find_package(GTest REQUIRED)
-  # Tests only: reading the JSON the programs write with a real parser.
-  find_package(nlohmann_json 3 REQUIRED)
 endif()
 if(ROSY_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)

@@ -109,6 +109,35 @@ Vec3 Camera::toViewer(const Vec3 &pWorld) const {
     return n > 0.0 ? Vec3(v / n) : Vec3(-m_forward);
 }
 
+Eigen::Matrix4d Camera::worldToCamera() const {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.block<1, 3>(0, 0) = m_right.transpose();
+    m.block<1, 3>(1, 0) = m_up.transpose();
+    m.block<1, 3>(2, 0) = m_forward.transpose();
+    m(0, 3) = -m_right.dot(m_position);
+    m(1, 3) = -m_up.dot(m_position);
+    m(2, 3) = -m_forward.dot(m_position);
+    return m;
+}
+
+Eigen::Matrix4d Camera::worldToNdc() const {
+    // project(): px = W/2 + s·xc (/ zc), py = H/2 − s·yc (/ zc); NDC divides by W, H.
+    const double sx = scale() / m_width, sy = scale() / m_height;
+    Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+    if (m_projection == Projection::Perspective) {
+        p(0, 0) = sx, p(0, 2) = 0.5; // (0.5·zc + sx·xc) / zc
+        p(1, 1) = -sy, p(1, 2) = 0.5;
+        p(2, 3) = 1.0;               // z = 1 / zc
+        p(3, 2) = 1.0;               // w = zc
+    } else {
+        p(0, 0) = sx, p(0, 3) = 0.5;
+        p(1, 1) = -sy, p(1, 3) = 0.5;
+        p(2, 2) = 1.0; // z = zc
+        p(3, 3) = 1.0;
+    }
+    return p * worldToCamera();
+}
+
 void boundingSphere(const field::Mesh &mesh, Vec3 &centre, double &radius) {
     if (mesh.nVertices() == 0) {
         centre = Vec3::Zero();

@@ -71,6 +71,21 @@ public:
     /// Unit direction from pWorld toward the viewer (the reversed primary ray direction).
     Vec3 toViewer(const Vec3 &pWorld) const;
 
+    /// OpenEXR's camera space (the standard attribute `worldToCamera`, the same as
+    /// RenderMan's): left-handed, origin at position(), x = right(), y = up() (image
+    /// up), z = forward(), so a point in front of the camera has z = depth() > 0.
+    /// Column-vector form: [xc yc zc 1]ᵀ = M · [x y z 1]ᵀ. (An OpenEXR file stores
+    /// the transpose, Imath multiplying row vectors: p · Mᵀ.)
+    Eigen::Matrix4d worldToCamera() const;
+    /// OpenEXR's NDC (the standard attribute `worldToNDC`, RenderMan's): after the
+    /// divide by w, x = px / width and y = py / height for the raster position
+    /// (px, py) of project(): (0, 0) the top-left corner of the image, (1, 1) the
+    /// bottom-right, y down; the centre of pixel (i, j) at ((i + 0.5) / width,
+    /// (j + 0.5) / height). z after the divide is 1 / depth (perspective) or depth
+    /// (orthographic); the standard says to discard it. Column-vector form as
+    /// worldToCamera(), including the projective row (w = depth for perspective).
+    Eigen::Matrix4d worldToNdc() const;
+
 private:
     Camera() = default;
     void setFrame(const Vec3 &position, const Vec3 &lookAt, const Vec3 &up, int width, int height);

@@ -2,12 +2,14 @@
 #include "renderer/large_buffer.h"
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/progress.h"
 #include "renderer/embree_scene.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace rosy::renderer {
 namespace {
@@ -24,6 +26,9 @@ Illustration renderIllustration(const IllustrationInput &in) {
     ROSY_CHECK(in.mesh && in.frames && in.field && in.singularities && in.scene && in.camera);
     const Camera &camera = *in.camera;
     Illustration out;
+    out.worldToCamera = camera.worldToCamera();
+    out.worldToNdc = camera.worldToNdc();
+    out.ink = in.style.ink;
     // One bar over the six stages; it only shows on a terminal after about a second.
     Progress progress("rendering", 6);
     auto t0 = Clock::now();
@@ -69,27 +74,73 @@ Illustration renderIllustration(const IllustrationInput &in) {
     return out;
 }
 
+const std::vector<std::string> &illustrationExrChannelNames() {
+    static const std::vector<std::string> names = {
+        "R",           "G",          "B",          "A",          "tone.target", "ink.coverage", "ink.hatch0",
+        "ink.hatch1",  "ink.contour", "ink.hidden", "Z",         "N.x",         "N.y",          "N.z",
+        "field.angle0", "field.angle1", "field.cos", "field.sin", "mask"};
+    return names;
+}
+
+int fieldHarmonic(int nSym) { return nSym % 2 != 0 ? 2 * nSym : nSym; }
+
+namespace {
+
+/// OpenEXR's M44f of a column-vector matrix: Imath multiplies row vectors, so the
+/// file holds the transpose, row by row.
+ImageAttribute exrMatrix(const char *name, const Eigen::Matrix4d &m) {
+    std::array<float, 16> rows{};
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) rows[size_t(4 * r + c)] = float(m(c, r));
+    return ImageAttribute::matrix44(name, rows);
+}
+
+} // namespace
+
 Image illustrationExr(const Illustration &il) {
-    SurfaceChannels surface;
+    const int width = il.gbuffer.width, height = il.gbuffer.height;
     const size_t n = il.gbuffer.nPixels();
-    surface.targetDensity = il.targetDensity;
-    surface.depth.assign(n, 0.0f);
-    surface.normalX.assign(n, 0.0f);
-    surface.normalY.assign(n, 0.0f);
-    surface.normalZ.assign(n, 0.0f);
-    surface.mask.assign(n, 0.0f);
-    for (size_t i = 0; i < n; ++i) {
-        if (il.gbuffer.faceId[i] < 0) continue;
-        surface.depth[i] = il.gbuffer.depth[i];
-        const Vec3 nrm = il.gbuffer.normal(i);
-        surface.normalX[i] = float(nrm.x());
-        surface.normalY[i] = float(nrm.y());
-        surface.normalZ[i] = float(nrm.z());
-        surface.mask[i] = 1.0f;
-    }
-    surface.angle0 = il.screen.angle0;
-    surface.angle1 = il.screen.angle1;
-    return inkExrImage(il.layers, il.composite, surface);
+    const InkLayers &layers = il.layers;
+    for (const std::vector<float> *v : {&layers.hatch0, &layers.hatch1, &layers.contour, &layers.hiddenContour,
+                                        &il.screen.angle0, &il.screen.angle1, &il.targetDensity})
+        if (!v->empty()) ROSY_CHECK_EQ(v->size(), n);
+    const std::vector<float> coverage = combinedCoverage(layers);
+    Image image(width, height, illustrationExrChannelNames());
+    image.premultipliedAlpha = true;
+    const int nc = image.nChannels;
+    const int k = fieldHarmonic(il.screen.nSym);
+    const float inf = std::numeric_limits<float>::infinity();
+    auto get = [](const std::vector<float> &v, size_t i) { return v.empty() || !std::isfinite(v[i]) ? 0.0f : v[i]; };
+    parallelFor(0, int64_t(n), [&](int64_t ii) {
+        const size_t i = size_t(ii);
+        float *px = &image.data[i * size_t(nc)];
+        const float a = coverage[i];
+        for (int c = 0; c < 3; ++c) px[c] = float(il.ink[size_t(c)]) * a;
+        px[3] = a;
+        px[4] = get(il.targetDensity, i);
+        px[5] = a;
+        px[6] = get(layers.hatch0, i);
+        px[7] = get(layers.hatch1, i);
+        px[8] = get(layers.contour, i);
+        px[9] = get(layers.hiddenContour, i);
+        const bool onObject = il.gbuffer.faceId[i] >= 0;
+        px[10] = onObject ? il.gbuffer.depth[i] : inf;
+        if (onObject) {
+            const Vec3 nrm = il.gbuffer.normal(i);
+            px[11] = float(nrm.x()), px[12] = float(nrm.y()), px[13] = float(nrm.z());
+            const float angle0 = get(il.screen.angle0, i);
+            px[14] = angle0;
+            px[15] = get(il.screen.angle1, i);
+            px[16] = float(std::cos(double(k) * angle0));
+            px[17] = float(std::sin(double(k) * angle0));
+            px[18] = 1.0f;
+        }
+    }, 4096);
+    image.attributes.push_back(exrMatrix("worldToCamera", il.worldToCamera));
+    image.attributes.push_back(exrMatrix("worldToNDC", il.worldToNdc));
+    image.attributes.push_back(ImageAttribute::integer("rosy:symmetry", il.screen.nSym));
+    image.attributes.push_back(ImageAttribute::integer("rosy:field_harmonic", k));
+    return image;
 }
 
 InkMaps illustrationInkMaps(const Illustration &il, const styles::HatchStyle &style) {

@@ -54,13 +54,41 @@ struct Illustration {
     HatchReport hatch;  ///< measured independently of the tracer (measureHatches), if asked
     ContourReport contours;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster
+    // For the EXR: the camera as OpenEXR's standard attributes (Camera::worldToCamera(),
+    // Camera::worldToNdc()) and the ink colour its premultiplied RGB carries.
+    Eigen::Matrix4d worldToCamera = Eigen::Matrix4d::Identity();
+    Eigen::Matrix4d worldToNdc = Eigen::Matrix4d::Identity();
+    styles::Rgb ink = {0.0, 0.0, 0.0};
 };
 
 /// Runs the whole pipeline. Deterministic for any thread count.
 Illustration renderIllustration(const IllustrationInput &input);
 
-/// The EXR of an illustration: final image plus the named channels of raster.h.
+/// The EXR of an illustration, for `rosyhatch inspect` and for compositors. Channels
+/// (illustrationExrChannelNames(), in that order; OpenEXR files list them sorted):
+///  - R G B A: the ink over nothing, premultiplied as OpenEXR expects: A = the ink
+///    coverage of the composite (ink.coverage), R G B = style ink colour × A, so
+///    `A over paper` gives the PNG's picture and `A over a plate` puts the drawing on it;
+///  - tone.target, ink.coverage, ink.hatch0, ink.hatch1, ink.contour (raster.h) and
+///    ink.hidden: the hidden-contour layer, dashed, at full strength (the composite
+///    draws it at CompositeOptions::hiddenOpacity);
+///  - Z: camera-space depth (Camera::depth, world units), +infinity where the pixel
+///    sees nothing (OpenEXR's convention; the former `depth` channel held 0 there);
+///  - N.x N.y N.z, field.angle0, field.angle1, mask: as raster.h;
+///  - field.cos, field.sin: mask × (cos Kθ, sin Kθ) of θ = field.angle0, K =
+///    fieldHarmonic(N): the hatch directions as a vector that filters (blur,
+///    resample) without wrapping, where the angle jumps at π and between labels.
+/// Header: the camera as the standard M44f attributes `worldToCamera` and
+/// `worldToNDC` (row-vector form, Imath's: the transposes of Camera's matrices),
+/// `rosy:symmetry` (N) and `rosy:field_harmonic` (K).
 Image illustrationExr(const Illustration &illustration);
+
+/// The channel names of illustrationExr(), in order.
+const std::vector<std::string> &illustrationExrChannelNames();
+
+/// K of the EXR's field.cos/field.sin for an N-RoSy: the line directions an N-RoSy
+/// draws repeat every π/N for odd N and 2π/N for even N, so K = 2N (odd) or N (even).
+int fieldHarmonic(int nSym);
 
 /// The channels `rosyhatch inspect` reads from the EXR, taken from the illustration
 /// in memory (same values as illustrationExr() writes), with the style's nominal

@@ -133,7 +133,7 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
     spec.alphaChannel = alpha;
     using A = ImageAttribute;
     // Our alpha is straight (not premultiplied): tell the writers not to divide by it.
-    if (alpha >= 0) spec.attributes.push_back(A::integer("oiio:UnassociatedAlpha", 1));
+    if (alpha >= 0 && !image.premultipliedAlpha) spec.attributes.push_back(A::integer("oiio:UnassociatedAlpha", 1));
     // An empty DateTime stops the EXR and TIFF writers stamping the current time:
     // the same render must give the same bytes on every run.
     spec.attributes.push_back(A::text("DateTime", ""));
@@ -145,6 +145,7 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
         spec.attributes.push_back(A::text("compression", "zip"));
     }
     for (const auto &[name, value] : options.floatAttributes) spec.attributes.push_back(A::real(name, value));
+    for (const ImageAttribute &a : image.attributes) spec.attributes.push_back(a);
 
     // Encode once, outside the writer: exact rounding of our own sRGB curve rather
     // than whatever conversion the format plugin would apply.
@@ -170,12 +171,16 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
         }, 16);
     }
     // NaN and infinities cannot be displayed; EXR would store them verbatim, which
-    // breaks "never NaN in output". Replace them before writing.
+    // breaks "never NaN in output". Replace them before writing, but keep +inf in
+    // a Z channel: OpenEXR's depth of a pixel that sees nothing.
     std::vector<float> floats;
     if (!eightBit) {
         floats = image.data;
-        for (float &v : floats)
-            if (!std::isfinite(v)) v = 0.0f;
+        const size_t nc = size_t(image.nChannels);
+        std::vector<char> keepInf(nc, 0);
+        for (size_t c = 0; c < nc; ++c) keepInf[c] = image.channelNames[c] == "Z";
+        for (size_t i = 0; i < floats.size(); ++i)
+            if (!std::isfinite(floats[i]) && !(keepInf[i % nc] && floats[i] > 0)) floats[i] = 0.0f;
     }
 
     const ImageIo &io = imageIo(); // before the temporary exists: a missing module leaves nothing behind

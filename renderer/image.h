@@ -4,6 +4,8 @@
 /// files are written by OpenImageIO inside the run-time module of image_io.h
 /// (oiio_module.cpp), so nothing outside that module sees OpenImageIO.
 
+#include "renderer/image_io.h"
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,9 +19,17 @@ struct Image {
     int height = 0;
     int nChannels = 0;
     /// One name per channel, e.g. {"R","G","B"} or {"R","G","B","A","depth"}. A channel
-    /// named "A" is straight (not premultiplied) alpha, stored linearly, never sRGB-encoded.
+    /// named "A" is straight (not premultiplied) alpha, stored linearly, never sRGB-encoded,
+    /// unless `premultipliedAlpha` says otherwise.
     std::vector<std::string> channelNames;
     std::vector<float> data;
+    /// R, G, B are already multiplied by A (OpenEXR's convention, the EXR of an
+    /// illustration: ink × coverage); writeImage() then does not mark the alpha as
+    /// unassociated.
+    bool premultipliedAlpha = false;
+    /// Header attributes written after writeImage()'s own (e.g. the camera matrices
+    /// of the EXR); EXR keeps them all, other formats may drop them.
+    std::vector<ImageAttribute> attributes;
 
     Image() = default;
     /// width x height image with the given channels, all zero.
@@ -57,7 +67,9 @@ bool isSupportedImagePath(const std::string &path);
 ///    from linear light with the sRGB transfer curve (values clamped to [0, 1], NaN -> 0),
 ///    alpha kept linear; PNG/TIFF take 1-4 channels, JPEG 1 or 3 and at most 65500
 ///    pixels per side;
-///  - .exr: every channel with its name, 32-bit float (or half, see options).
+///  - .exr: every channel with its name, 32-bit float (or half, see options);
+///    NaN and infinities become 0, except +infinity in a channel named "Z"
+///    (OpenEXR's depth: nothing there), which is kept.
 /// The file appears atomically (temporary file + rename, see core/atomic_file.h): on
 /// failure no temporary file is left and an existing file at `path` is untouched.
 /// No time stamps or host names are written, so equal images give equal files.

@@ -249,10 +249,24 @@ DiffInput readDiffInput(const std::string &path) {
     const bool floating = spec.floating;
     const std::string &colorSpace = spec.colorSpace;
     const bool linear = floating || colorSpace == "Linear" || colorSpace == "linear";
+    const size_t nc = size_t(spec.nChannels);
     if (!linear) {
-        const size_t nc = size_t(spec.nChannels);
         for (size_t i = 0; i < result.image.data.size(); ++i)
             if (int(i % nc) != spec.alphaChannel) result.image.data[i] = float(srgbToLinear(result.image.data[i]));
+    }
+    // Premultiplied colour (OpenEXR's convention, rosyhatch's ink matte): what the
+    // eye reads is the picture over white paper, colour + (1 − alpha).
+    if (floating && spec.alphaChannel >= 0 && spec.alphaChannel < spec.nChannels &&
+        in->floatAttribute("oiio:UnassociatedAlpha", 0.0f) == 0.0f) {
+        const std::vector<std::string> &cn = result.image.channelNames;
+        const size_t a = size_t(spec.alphaChannel);
+        for (size_t c = 0; c < nc; ++c) {
+            if (cn[c] != "R" && cn[c] != "G" && cn[c] != "B") continue;
+            for (size_t i = 0; i < result.image.data.size(); i += nc) {
+                const float alpha = result.image.data[i + a];
+                if (std::isfinite(alpha)) result.image.data[i + c] += 1.0f - std::clamp(alpha, 0.0f, 1.0f);
+            }
+        }
     }
     const float spacing = in->floatAttribute(kHatchSpacingAttribute, 0.0f);
     result.hatchSpacingPx = std::isfinite(spacing) && spacing > 0.0f ? double(spacing) : 0.0;
@@ -305,13 +319,17 @@ DiffResult compareImages(const Image &a, const Image &b, const DiffOptions &opti
 
     const bool exr = options.exrChannels && channelIndex(a, "mask") >= 0 && channelIndex(b, "mask") >= 0;
     if (exr) {
-        for (const char *name : {"tone.target", "ink.coverage", "ink.hatch0", "ink.hatch1", "ink.contour", "mask"}) {
+        for (const char *name :
+             {"tone.target", "ink.coverage", "ink.hatch0", "ink.hatch1", "ink.contour", "ink.hidden", "mask"}) {
             const int ia = channelIndex(a, name), ib = channelIndex(b, name);
             if (ia < 0 || ib < 0) continue;
             result.channels.push_back(
                 statsOf(name, tolerantDiff(blur(channel(a, ia)), blur(channel(b, ib)), w, h, r), w, options));
         }
-        const int da = channelIndex(a, "depth"), db = channelIndex(b, "depth");
+        // Depth: Z (+inf where nothing is seen, read as 0 here like the former `depth`
+        // channel's background), or `depth` in EXRs written before Z.
+        const char *depthName = channelIndex(a, "Z") >= 0 && channelIndex(b, "Z") >= 0 ? "Z" : "depth";
+        const int da = channelIndex(a, depthName), db = channelIndex(b, depthName);
         if (da >= 0 && db >= 0) {
             std::vector<float> za = channel(a, da), zb = channel(b, db);
             float scale = 0.0f;
@@ -319,7 +337,7 @@ DiffResult compareImages(const Image &a, const Image &b, const DiffOptions &opti
             for (float z : zb) scale = std::max(scale, std::abs(z));
             if (scale > 0.0f)
                 for (size_t i = 0; i < za.size(); ++i) za[i] /= scale, zb[i] /= scale;
-            result.channels.push_back(statsOf("depth", tolerantDiff(blur(za), blur(zb), w, h, r), w, options));
+            result.channels.push_back(statsOf(depthName, tolerantDiff(blur(za), blur(zb), w, h, r), w, options));
         }
         // Vector-valued channels: tolerate each component, then combine the
         // components' excesses into one length.
@@ -338,6 +356,13 @@ DiffResult compareImages(const Image &a, const Image &b, const DiffOptions &opti
         if (nxa >= 0 && nya >= 0 && nza >= 0 && nxb >= 0 && nyb >= 0 && nzb >= 0)
             vectorChannel("normal", {channel(a, nxa), channel(a, nya), channel(a, nza)},
                           {channel(b, nxb), channel(b, nyb), channel(b, nzb)}, 0.5);
+        // The filter-safe field pair (cos Kθ, sin Kθ): a vector already, compared as one.
+        {
+            const int ca = channelIndex(a, "field.cos"), sa = channelIndex(a, "field.sin");
+            const int cb = channelIndex(b, "field.cos"), sb = channelIndex(b, "field.sin");
+            if (ca >= 0 && sa >= 0 && cb >= 0 && sb >= 0)
+                vectorChannel("field.cos/sin", {channel(a, ca), channel(a, sa)}, {channel(b, cb), channel(b, sb)}, 0.5);
+        }
         const std::vector<float> maskA = channel(a, channelIndex(a, "mask")), maskB = channel(b, channelIndex(b, "mask"));
         for (const char *name : {"field.angle0", "field.angle1"}) {
             const int ia = channelIndex(a, name), ib = channelIndex(b, name);

@@ -96,7 +96,9 @@ struct DiffInput {
 };
 
 /// Reads any image OpenImageIO can read. 8- and 16-bit files (sRGB unless their
-/// header says linear) are decoded to linear light; alpha stays as stored.
+/// header says linear) are decoded to linear light; alpha stays as stored. Float
+/// files with premultiplied alpha (OpenEXR's convention, rosyhatch's ink matte)
+/// get R, G, B over white paper: colour + (1 − alpha).
 /// \throws IoError if the file does not exist or cannot be read.
 /// \throws InputError naming the path if it is not an image or not 2D.
 DiffInput readDiffInput(const std::string &path);
@@ -109,10 +111,12 @@ DiffInput readDiffInput(const std::string &path);
 ///  - paper: max over R, G, B of the difference of the paper colours (mean of the
 ///    pixels at or above the percentile); one value, fails as a whole;
 ///  - with options.exrChannels and both images carrying them: tone.target,
-///    ink.coverage, ink.hatch0, ink.hatch1, ink.contour (values as stored), depth
-///    (divided by the larger maximum depth of the two), normal (|ΔN| / 2 over
-///    N.x N.y N.z), field.angle0/1 (|Δ(cos 2θ, sin 2θ)| / 2 of the
-///    mask-weighted doubled angle, so lines are compared modulo π), mask.
+///    ink.coverage, ink.hatch0, ink.hatch1, ink.contour, ink.hidden (values as
+///    stored), Z (or `depth` of older files; +inf read as 0, divided by the larger
+///    maximum depth of the two), normal (|ΔN| / 2 over N.x N.y N.z),
+///    field.cos/sin (|Δ(field.cos, field.sin)| / 2), field.angle0/1
+///    (|Δ(cos 2θ, sin 2θ)| / 2 of the mask-weighted doubled angle, so lines are
+///    compared modulo π), mask.
 /// Every channel is blurred and shift-tolerated the same way.
 /// \param hatchSpacingPx used for the automatic blur (0: kDefaultBlurPx).
 /// \throws InputError for a non-finite or negative option, or an image without pixels.

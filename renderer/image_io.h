@@ -25,6 +25,7 @@
 /// The interface passes only our own types (no OpenImageIO type crosses it) and
 /// reports failures as strings, never as exceptions across the module boundary.
 
+#include <array>
 #include <memory>
 #include <string>
 #include <utility>
@@ -38,17 +39,23 @@ enum class PixelType { UInt8, UInt16, Half, Float };
 /// One header attribute, e.g. {"compression", "zip"}; kept in the order given,
 /// which is the order OpenImageIO sees them.
 struct ImageAttribute {
-    enum class Kind { Int, Float, String };
+    /// Matrix44: a 4x4 float matrix, OpenEXR's M44f (e.g. the standard
+    /// `worldToCamera`, `worldToNDC`), 16 values row by row as Imath stores them.
+    enum class Kind { Int, Float, String, Matrix44 };
     std::string name;
     Kind kind = Kind::Int;
     int intValue = 0;
     float floatValue = 0.0f;
     std::string stringValue;
+    std::array<float, 16> matrixValue{};
 
-    static ImageAttribute integer(std::string name, int v) { return {std::move(name), Kind::Int, v, 0.0f, {}}; }
-    static ImageAttribute real(std::string name, float v) { return {std::move(name), Kind::Float, 0, v, {}}; }
+    static ImageAttribute integer(std::string name, int v) { return {std::move(name), Kind::Int, v, 0.0f, {}, {}}; }
+    static ImageAttribute real(std::string name, float v) { return {std::move(name), Kind::Float, 0, v, {}, {}}; }
     static ImageAttribute text(std::string name, std::string v) {
-        return {std::move(name), Kind::String, 0, 0.0f, std::move(v)};
+        return {std::move(name), Kind::String, 0, 0.0f, std::move(v), {}};
+    }
+    static ImageAttribute matrix44(std::string name, const std::array<float, 16> &rowMajor) {
+        return {std::move(name), Kind::Matrix44, 0, 0.0f, {}, rowMajor};
     }
 };
 
@@ -105,11 +112,11 @@ public:
 
 /// The read budget of `rosyhatch diff` and `inspect` (and every other reader going
 /// through imageIo()): at most kMaxReadPixels pixels (4096 x 4096, the largest
-/// render; scenes/README.md) and kMaxReadValues channel values, i.e. 1 GiB per
-/// image as float, which is what a 4096² EXR of rosyhatch holds (16 channels).
+/// render; scenes/README.md) and kMaxReadValues channel values, i.e. 1.5 GiB per
+/// image as float: 24 channels at 4096², room for the 19 of a rosyhatch EXR.
 /// A 168 KB PNG can claim 32000 x 32000 pixels and a 5 KB EXR a 50000² data window.
 inline constexpr long long kMaxReadPixels = 4096LL * 4096LL;
-inline constexpr long long kMaxReadValues = 1LL << 28;
+inline constexpr long long kMaxReadValues = 24LL * 4096LL * 4096LL;
 
 /// \throws InputError (exit 2) naming `path`, the image's size and the limit when
 ///   the header exceeds the read budget.

@@ -133,6 +133,7 @@ public:
             case ImageAttribute::Kind::Int: spec.attribute(a.name, a.intValue); break;
             case ImageAttribute::Kind::Float: spec.attribute(a.name, a.floatValue); break;
             case ImageAttribute::Kind::String: spec.attribute(a.name, a.stringValue); break;
+            case ImageAttribute::Kind::Matrix44: spec.attribute(a.name, OIIO::TypeMatrix44, a.matrixValue.data()); break;
             }
         }
         auto out = OIIO::ImageOutput::create(s.format);

@@ -48,14 +48,14 @@ struct Rendered {
     double hatchSpacingPx = 0.0;
 };
 
-/// Renders a case as EXR (the channels, for inspect) with its report; the PNG is
-/// the EXR's RGB written exactly as `render -o x.png` would write it.
+/// Renders a case as EXR (the channels, for inspect) and PNG (the picture: the
+/// EXR's RGBA is the ink alone, premultiplied) from one render, with its report.
 Rendered renderCase(const std::string &scene, const Overrides &overrides, const fs::path &dir) {
     Rendered out{dir / "new.exr", dir / "new.png", dir / "new.report.json", dir / "new.inspect.json"};
     for (const fs::path &p : {out.exr, out.png, out.report, out.inspect}) fs::remove(p);
     std::ostringstream args;
-    args << "render " << sceneArgs(kScenesDir / scene, overrides, dir) << " -o '" << out.exr.string()
-         << "' --report '" << out.report.string() << "' --quiet";
+    args << "render " << sceneArgs(kScenesDir / scene, overrides, dir) << " -o '" << out.exr.string() << "' -o '"
+         << out.png.string() << "' --report '" << out.report.string() << "' --quiet";
     const RunResult render = runRosy(args.str(), dir, "render");
     if (render.exitCode == 2 && render.err.find("field picture") != std::string::npos) {
         // A field picture (the paper's figures) has no strokes to report or ink
@@ -86,21 +86,7 @@ Rendered renderCase(const std::string &scene, const Overrides &overrides, const 
     if (inspect.exitCode != 0) spit(out.inspect, "{}\n");
     EXPECT_EQ(inspect.exitCode, 0) << inspect.err;
     if (render.exitCode != 0) return out;
-    const r::DiffInput exr = r::readDiffInput(out.exr.string());
-    out.hatchSpacingPx = exr.hatchSpacingPx;
-    r::Image rgba(exr.image.width, exr.image.height, {"R", "G", "B", "A"});
-    const size_t n = size_t(rgba.width) * size_t(rgba.height);
-    for (int c = 0; c < 4; ++c) {
-        int src = -1;
-        for (int k = 0; k < exr.image.nChannels; ++k)
-            if (exr.image.channelNames[size_t(k)] == rgba.channelNames[size_t(c)]) src = k;
-        if (c < 3) {
-            EXPECT_GE(src, 0) << rgba.channelNames[size_t(c)]; // alpha may be absent: opaque
-        }
-        for (size_t i = 0; i < n; ++i)
-            rgba.data[i * 4 + size_t(c)] = src < 0 ? 1.0f : exr.image.data[i * size_t(exr.image.nChannels) + size_t(src)];
-    }
-    r::writeImage(rgba, out.png.string());
+    out.hatchSpacingPx = r::readDiffInput(out.exr.string()).hatchSpacingPx;
     return out;
 }
 

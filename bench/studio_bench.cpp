@@ -1,0 +1,172 @@
+// rosyhatch studio's speed (issue 19), each figure a median and a ratio against a
+// yardstick measured in the same run:
+//   - an edit request (cancel the closest opposite pair) through HTTP until the new
+//     field and singularities are received, against the library's own edit
+//     (field::applyFieldEdits + findSingularities on the same field);
+//   - an element added (the whole field rebuilt) through HTTP, against
+//     scenes::buildSceneField() of the scene (the field pipeline alone);
+//   - a first load (Studio built, then state, mesh and field fetched), against
+//     scenes::buildSceneField() of the scene;
+//   - a 512² preview PNG, against scenes::renderScene() at 512² (no file written).
+// The page's own drawing time is measured in the browser (docs/studio.md).
+//
+//   studio_bench [SCENE.yaml] [REPEATS]     (defaults: scenes/bunny.yaml, 15)
+// The measurements of each group are taken in turn, round after round (after one
+// untimed round), so that a yardstick and what it measures see the same machine.
+
+#include "field/edits.h"
+#include "field/singularities.h"
+#include "scenes/pipeline.h"
+#include "studio/server.h"
+#include "studio/studio.h"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+/// Medians of several measurements taken in turn, round after round, so that every
+/// one sees the same machine (this one is shared: its load changes within seconds).
+/// Each entry: the timed work and untimed work after it. One untimed warm-up round.
+std::vector<double> interleaved(int repeats,
+                                const std::vector<std::pair<std::function<void()>, std::function<void()>>> &work) {
+    std::vector<std::vector<double>> t(work.size());
+    for (int round = -1; round < repeats; ++round)
+        for (size_t k = 0; k < work.size(); ++k) {
+            const auto a = Clock::now();
+            work[k].first();
+            if (round >= 0) t[k].push_back(ms(a, Clock::now()));
+            if (work[k].second) work[k].second();
+        }
+    std::vector<double> out;
+    for (auto &v : t) out.push_back(median(v));
+    return out;
+}
+
+std::pair<int, int> closestPair(const std::vector<rosy::field::Singularity> &s) {
+    std::pair<int, int> best{-1, -1};
+    double bestD = 1e300;
+    for (size_t i = 0; i < s.size(); ++i)
+        for (size_t j = 0; j < s.size(); ++j)
+            if (s[i].indexNumerator == 1 && s[j].indexNumerator == -1) {
+                const double d = (s[i].position - s[j].position).norm();
+                if (d < bestD) bestD = d, best = {int(i), int(j)};
+            }
+    return best;
+}
+
+void require(bool ok, const char *what) {
+    if (!ok) {
+        std::fprintf(stderr, "studio_bench: %s failed\n", what);
+        std::exit(1);
+    }
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    const std::string scenePath = argc > 1 ? argv[1] : std::string(ROSY_SOURCE_DIR) + "/scenes/bunny.yaml";
+    const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 15;
+    const int slow = std::max(3, repeats / 3);
+    const rosy::scenes::SceneDesc desc = rosy::scenes::parseSceneFile(scenePath);
+    const rosy::scenes::SceneDesc small = rosy::scenes::parseSceneFile(scenePath, {"camera.resolution=[512,512]"});
+    rosy::scenes::PipelineOptions noMeasure;
+    noMeasure.measureHatching = false;
+
+    // The library alone (yardsticks) and the studio, in process and through HTTP.
+    rosy::scenes::SceneField sf = rosy::scenes::buildSceneField(desc);
+    const auto &frames = *sf.loaded.frames;
+    const auto pair = closestPair(sf.field.singularities.singularities);
+    require(pair.first >= 0, "finding an opposite pair");
+    rosy::studio::Studio st(scenePath);
+    rosy::studio::StudioServer srv(st, {});
+    const int port = srv.bind();
+    srv.start();
+    httplib::Client c("127.0.0.1", port);
+    c.set_default_headers({{"X-Rosy-Token", srv.token()}});
+    const std::string cancel = nlohmann::json{{"op", "cancel"}, {"a", pair.first}, {"b", pair.second}}.dump();
+    const auto p = sf.field.singularities.singularities[pair.first].position;
+    const std::string add =
+        nlohmann::json{{"op", "add_element"}, {"position", {p.x(), p.y(), p.z()}}, {"order", 1}, {"phase", 0}}.dump();
+    auto undo = [&] { require(c.Post("/api/undo", "", "text/plain")->status == 200, "undo"); };
+    size_t responseBytes = 0;
+
+    const std::vector<double> edits = interleaved(
+        repeats, {{[&] {
+                       rosy::field::RosyField f = sf.field.field.field;
+                       rosy::field::FieldEdit e;
+                       e.op = rosy::field::FieldEdit::Op::CancelNear; // as the studio saves it
+                       e.p = sf.field.singularities.singularities[pair.first].position;
+                       e.q = sf.field.singularities.singularities[pair.second].position;
+                       rosy::field::applyFieldEdits(frames, f, {e});
+                       rosy::field::findSingularities(frames, f);
+                   },
+                   {}},
+                  {[&] { st.edit(cancel); }, [&] { st.undo(); }},
+                  {[&] {
+                       auto r = c.Post("/api/edit", cancel, "application/json");
+                       require(r && r->status == 200, "the cancel request");
+                       responseBytes = r->body.size();
+                   },
+                   undo},
+                  {[&] { st.fieldBinary(); }, {}},
+                  {[&] { st.stateJson(); }, {}}});
+    const std::vector<double> rebuilds = interleaved(
+        slow, {{[&] { rosy::scenes::buildSceneField(desc); }, {}},
+               {[&] { require(c.Post("/api/edit", add, "application/json")->status == 200, "the element request"); },
+                undo},
+               {[&] {
+                    rosy::studio::Studio fresh(scenePath);
+                    rosy::studio::StudioServer s2(fresh, {});
+                    const int port2 = s2.bind();
+                    s2.start();
+                    httplib::Client c2("127.0.0.1", port2);
+                    c2.set_default_headers({{"X-Rosy-Token", s2.token()}});
+                    auto a = c2.Get("/api/state");
+                    auto m = c2.Get("/api/mesh");
+                    auto f = c2.Get("/api/field");
+                    require(a && m && f && a->status == 200 && m->status == 200 && f->status == 200, "first load");
+                    s2.stop();
+                },
+                {}}});
+    const auto firstPreviewStart = Clock::now();
+    require(c.Post("/api/preview?size=512", "", "text/plain")->status == 200, "the first preview");
+    const double firstPreview = ms(firstPreviewStart, Clock::now());
+    const std::vector<double> previews = interleaved(
+        slow, {{[&] { rosy::scenes::renderScene(small, noMeasure); }, {}},
+               {[&] { require(c.Post("/api/preview?size=512", "", "text/plain")->status == 200, "the preview"); }, {}}});
+    srv.stop();
+
+    std::printf("studio_bench %s (%d vertices, %d faces), medians of %d (%d for the slow ones), interleaved\n",
+                scenePath.c_str(), sf.loaded.scene->mesh.nVertices(), sf.loaded.scene->mesh.nFaces(), repeats, slow);
+    std::printf("%-46s %9s %26s %9s %7s\n", "what", "median", "yardstick", "median", "ratio");
+    auto row = [](const char *what, double t, const char *yard, double y) {
+        std::printf("%-46s %7.1f ms %26s %7.1f ms %6.2fx\n", what, t, yard, y, t / y);
+    };
+    row("edit request: cancel -> field + singularities", edits[2], "library cancel_near + find", edits[0]);
+    row("Studio::edit() cancel, in process (no HTTP)", edits[1], "library cancel_near + find", edits[0]);
+    row("  Studio::fieldBinary()", edits[3], "library cancel_near + find", edits[0]);
+    row("  Studio::stateJson()", edits[4], "library cancel_near + find", edits[0]);
+    row("edit request: +1 element (field rebuilt)", rebuilds[1], "buildSceneField()", rebuilds[0]);
+    row("first load: studio + state + mesh + field", rebuilds[2], "buildSceneField()", rebuilds[0]);
+    row("preview 512^2 PNG (scene at 512 cached)", previews[1], "renderScene() at 512^2", previews[0]);
+    row("first preview 512^2 (loads the scene at 512)", firstPreview, "renderScene() at 512^2", previews[0]);
+    std::printf("edit response: %zu bytes (state JSON + 24 bytes per vertex)\n", responseBytes);
+    return 0;
+}

@@ -1,0 +1,213 @@
+/// \file cmd_remesh.cpp
+/// `rosyhatch remesh SCENE_OR_MESH -o OUT`: a quad-dominant (4-RoSy) or
+/// triangle-dominant (6-RoSy) mesh along the scene's field (or the default
+/// curvature field of a bare mesh), written through OpenMesh's writers, with the
+/// quality report of remesh/quality.h (docs/remeshing.md).
+
+#include "cli/commands.h"
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/json.h"
+#include "field/mesh/poly_mesh.h"
+#include "field/primitives.h"
+#include "remesh/quality.h"
+#include "remesh/remesh.h"
+#include "scenes/pipeline.h"
+#include "scenes/scene.h"
+
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace rosy::cli {
+namespace {
+
+struct RemeshCliOptions {
+    std::string input, output, reportPath;
+    std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
+    std::string separatrices = "off";
+    int symmetry = 4;
+    bool symmetryGiven = false;
+    std::vector<std::string> overrides;
+    CommonOptions common;
+};
+
+bool endsWith(const std::string &s, const std::string &suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string lower(std::string s) {
+    for (char &c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+/// "--edge": a length in world units ("0.02") or a percentage of the diagonal ("1%").
+struct EdgeSpec {
+    double value = 1;
+    bool relative = true;
+    double resolve(double diagonal) const { return relative ? value / 100.0 * diagonal : value; }
+};
+
+EdgeSpec parseEdge(const std::string &text) {
+    EdgeSpec e;
+    std::string t = text;
+    e.relative = !t.empty() && t.back() == '%';
+    if (e.relative) t.pop_back();
+    try {
+        size_t used = 0;
+        e.value = std::stod(t, &used);
+        if (used != t.size()) throw std::invalid_argument(t);
+    } catch (const std::exception &) {
+        throw InputError(FileLoc{"--edge"}, "'" + text + "' is not a length",
+                         "give a length in the mesh's units (0.02) or a percentage of its bounding-box diagonal (1%)");
+    }
+    if (!(e.value > 0) || !std::isfinite(e.value) || (e.relative && (e.value < 0.1 || e.value > 50)))
+        throw InputError(FileLoc{"--edge"}, "'" + text + "' is out of range",
+                         "a positive length, or a percentage of the diagonal in [0.1%, 50%]");
+    return e;
+}
+
+void runRemesh(const RemeshCliOptions &opt) {
+    using Clock = std::chrono::steady_clock;
+    const auto tStart = Clock::now();
+    const bool isScene = endsWith(lower(opt.input), ".yaml") || endsWith(lower(opt.input), ".yml");
+    if (!isScene && !opt.overrides.empty())
+        throw InputError(FileLoc{"--set " + opt.overrides.front()}, "--set overrides keys of a scene file",
+                         "give a scene (.yaml) instead of a mesh");
+    const std::string ext = opt.output.size() >= 4 ? lower(opt.output.substr(opt.output.size() - 4)) : "";
+    if (ext != ".obj" && ext != ".off" && ext != ".ply")
+        throw InputError(FileLoc{"-o"}, "cannot write a polygon mesh named '" + opt.output + "'",
+                         "use .obj, .off or .ply (STL has triangles only)");
+    if (opt.separatrices != "on" && opt.separatrices != "off")
+        throw InputError(FileLoc{"--separatrices"}, "'" + opt.separatrices + "' is not on or off", "use on or off");
+    if (opt.symmetry != 4 && opt.symmetry != 6)
+        throw InputError(FileLoc{"--symmetry"}, "remeshing needs N = 4 (quads) or 6 (triangles), got " +
+                                                    std::to_string(opt.symmetry),
+                         "use --symmetry 4 or 6");
+    const EdgeSpec edge = parseEdge(opt.edge);
+
+    scenes::SceneDesc desc;
+    if (isScene) {
+        desc = scenes::parseSceneFile(opt.input, opt.overrides);
+    } else {
+        desc.path = opt.input;
+        desc.mesh.file = scenes::Located<std::string>{opt.input, FileLoc{opt.input}};
+        desc.mesh.loc = FileLoc{opt.input};
+    }
+    checkWritable(opt.output);
+    if (!opt.reportPath.empty()) checkWritable(opt.reportPath);
+    if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
+    for (const std::string &out : {opt.output, opt.reportPath, opt.common.timingsPath}) {
+        checkNotAnInput(out, opt.input, isScene ? "scene file" : "input mesh");
+        if (desc.mesh.file) checkNotAnInput(out, desc.mesh.file->value, "input mesh");
+    }
+    // The scene's own symmetry when it is 4 or 6 and --symmetry was not given.
+    int nSym = opt.symmetry;
+    const int sceneSym = desc.field.given ? desc.field.spec.nSym : 4;
+    if (!opt.symmetryGiven && (sceneSym == 4 || sceneSym == 6)) nSym = sceneSym;
+
+    OutputBatch outputs;
+    scenes::PipelineOptions popt;
+    popt.load = field::LoadOptions{opt.common.maxFaces};
+    if (opt.common.threads > 0) popt.threads = opt.common.threads;
+    popt.nSym = nSym;
+    // Edits name singularities of the scene's own field: only with its own N.
+    popt.applyEdits = nSym == sceneSym;
+    double edgeLength = 0;
+    popt.afterLoad = [&](scenes::Scene &scene) {
+        field::Vec3 lo, hi;
+        scene.mesh.bounds(lo, hi);
+        edgeLength = edge.resolve((hi - lo).norm());
+    };
+    if (!opt.common.quiet) popt.onStage = [](const std::string &stage, double ms) {
+        std::fprintf(stderr, "  %s %.0f ms\n", stage.c_str(), ms);
+    };
+    scenes::SceneField sf = scenes::buildSceneField(desc, popt);
+    const field::TangentFrames &frames = *sf.loaded.frames;
+    const field::RosyField &rosyField = sf.field.field.field;
+
+    remesh::RemeshOptions ropt;
+    ropt.edgeLength = edgeLength;
+    ropt.separatrices = opt.separatrices == "on";
+    ropt.maxVertices = opt.common.maxFaces;
+    auto t0 = Clock::now();
+    const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
+    const double remeshMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    t0 = Clock::now();
+    const remesh::QualityReport quality = remesh::measureQuality(result.positions, result.polygons, frames, rosyField,
+                                                                 sf.field.singularities, edgeLength);
+    const double qualityMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+    field::writePolyMesh(opt.output, result.poly);
+    std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
+    for (const char *stage : {"hierarchy", "position", "extraction"}) ms.emplace_back(stage, result.timingsMs.at(stage));
+    ms.emplace_back("remesh", remeshMs);
+    ms.emplace_back("quality", qualityMs);
+    ms.emplace_back("total", std::chrono::duration<double, std::milli>(Clock::now() - tStart).count());
+    if (!opt.common.quiet) {
+        std::printf("%s: %d vertices, %d faces (%.1f %% %s), %d irregular vertices, angle deviation p90 %.1f deg, "
+                    "edge CV %.3f, distance %.2f %% / %.2f %% of the diagonal; %s, %s, chi %d (input %d)\n",
+                    opt.output.c_str(), quality.vertices, quality.faces, 100 * quality.regularFaceFraction,
+                    nSym == 6 ? "triangles" : "quads", quality.irregularVertices, quality.angleDevP90Deg,
+                    quality.edgeLengthCv, quality.distanceOutToInPct, quality.distanceInToOutPct,
+                    quality.closed ? "closed" : "open", quality.manifold && quality.oriented ? "manifold, oriented"
+                                                                                              : "NOT manifold/oriented",
+                    quality.eulerCharacteristic, quality.inputEulerCharacteristic);
+    }
+    if (!opt.reportPath.empty()) {
+        JsonWriter json;
+        json.beginObject();
+        json.field("input", opt.input).field("output", opt.output);
+        json.field("method", "position-field");
+        json.key("options").beginObject();
+        json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
+        json.field("separatrices", ropt.separatrices).endObject();
+        json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
+        json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
+        json.key("repairs").beginObject();
+        for (const auto &[k, n] : result.repairs) json.field(k, n);
+        json.endObject();
+        json.key("quality");
+        remesh::writeQualityJson(json, quality);
+        json.key("timings_ms").beginObject();
+        for (const auto &[stage, t] : ms) json.field(stage, t);
+        json.endObject().endObject();
+        writeTextAtomically(opt.reportPath, json.str());
+    }
+    if (!opt.common.timingsPath.empty()) {
+        JsonWriter json;
+        json.beginObject();
+        for (const auto &[stage, t] : ms) json.field(stage, t);
+        json.endObject();
+        writeTextAtomically(opt.common.timingsPath, json.str());
+    }
+    outputs.commit();
+}
+
+} // namespace
+
+void addRemeshCommand(CLI::App &app, Action &action) {
+    auto opt = std::make_shared<RemeshCliOptions>();
+    CLI::App *sub = app.add_subcommand("remesh", "Quad-dominant (or triangle) remeshing along the N-RoSy field");
+    sub->add_option("input", opt->input, "Scene (.yaml) or mesh (.obj .ply .off .stl)")->required();
+    sub->add_option("-o,--output", opt->output, "Output polygon mesh (.obj, .off, .ply)")->required();
+    sub->add_option("--edge", opt->edge, "Target edge length: world units, or N% of the bounding-box diagonal")
+        ->capture_default_str();
+    sub->add_option("--separatrices", opt->separatrices,
+                    "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
+        ->capture_default_str();
+    sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
+        ->capture_default_str();
+    sub->add_option("--report", opt->reportPath, "Write the quality report (JSON) here");
+    addSetOption(*sub, opt->overrides);
+    addCommonOptions(*sub, opt->common);
+    sub->callback([opt, sub, &action] {
+        opt->symmetryGiven = sub->get_option("--symmetry")->count() > 0;
+        action = [opt] { runRemesh(*opt); };
+    });
+}
+
+} // namespace rosy::cli

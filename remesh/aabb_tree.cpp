@@ -1,0 +1,145 @@
+/// \file aabb_tree.cpp
+#include "remesh/aabb_tree.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace rosy::remesh {
+
+// Regions of the triangle's plane by the signs of barycentric-like dot
+// products: vertex regions first, then edges, then the inside.
+Vec3 closestPointOnTriangle(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Vec3 bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double den = d1 - d3;
+        return den > 0 ? Vec3(a + ab * (d1 / den)) : a;
+    }
+    const Vec3 cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double den = d2 - d6;
+        return den > 0 ? Vec3(a + ac * (d2 / den)) : a;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        const double den = (d4 - d3) + (d5 - d6);
+        return den > 0 ? Vec3(b + (c - b) * ((d4 - d3) / den)) : b;
+    }
+    const double sum = va + vb + vc;
+    if (!(sum > 0)) { // degenerate: the best of the three edges
+        Vec3 best = a;
+        double bestD = (p - a).squaredNorm();
+        for (const auto &[u, w] : {std::pair<Vec3, Vec3>{a, b}, {b, c}, {c, a}}) {
+            const Vec3 e = w - u;
+            const double len2 = e.squaredNorm();
+            const double t = len2 > 0 ? std::clamp((p - u).dot(e) / len2, 0.0, 1.0) : 0.0;
+            const Vec3 q = u + t * e;
+            if ((p - q).squaredNorm() < bestD) bestD = (p - q).squaredNorm(), best = q;
+        }
+        return best;
+    }
+    const double v = vb / sum, w = vc / sum;
+    return a + ab * v + ac * w;
+}
+
+AabbTree::AabbTree(std::vector<Vec3> points, std::vector<std::array<int, 3>> triangles)
+    : m_points(std::move(points)), m_tris(std::move(triangles)) {
+    m_order.resize(m_tris.size());
+    for (size_t i = 0; i < m_order.size(); ++i) m_order[i] = int(i);
+    if (!m_tris.empty()) {
+        m_nodes.reserve(2 * m_tris.size());
+        build(0, int(m_tris.size()));
+    }
+}
+
+AabbTree::AabbTree(const field::Mesh &mesh)
+    : AabbTree(mesh.positions(), std::vector<std::array<int, 3>>(mesh.faces().begin(), mesh.faces().end())) {}
+
+int AabbTree::build(int begin, int end) {
+    Node node;
+    node.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    node.hi = -node.lo;
+    for (int k = begin; k < end; ++k)
+        for (int c : m_tris[m_order[k]]) {
+            node.lo = node.lo.cwiseMin(m_points[c]);
+            node.hi = node.hi.cwiseMax(m_points[c]);
+        }
+    const int id = int(m_nodes.size());
+    m_nodes.push_back(node);
+    if (end - begin <= 4) {
+        m_nodes[id].begin = begin;
+        m_nodes[id].end = end;
+        return id;
+    }
+    // Split at the median centroid along the longest axis (ties by index: deterministic).
+    int axis = 0;
+    (node.hi - node.lo).maxCoeff(&axis);
+    auto centroid = [&](int t) {
+        const auto &f = m_tris[t];
+        return m_points[f[0]][axis] + m_points[f[1]][axis] + m_points[f[2]][axis];
+    };
+    const int mid = (begin + end) / 2;
+    std::nth_element(m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end, [&](int x, int y) {
+        const double cx = centroid(x), cy = centroid(y);
+        return cx < cy || (cx == cy && x < y);
+    });
+    const int left = build(begin, mid);
+    const int right = build(mid, end);
+    m_nodes[id].left = left;
+    m_nodes[id].right = right;
+    return id;
+}
+
+namespace {
+double boxDistance2(const Vec3 &p, const Vec3 &lo, const Vec3 &hi) {
+    const Vec3 d = (lo - p).cwiseMax(p - hi).cwiseMax(Vec3::Zero());
+    return d.squaredNorm();
+}
+} // namespace
+
+ClosestPoint AabbTree::closest(const Vec3 &p) const {
+    ClosestPoint best;
+    best.distance2 = std::numeric_limits<double>::infinity();
+    if (m_nodes.empty()) return best;
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node &node = m_nodes[stack[--top]];
+        if (boxDistance2(p, node.lo, node.hi) >= best.distance2) continue;
+        if (node.left < 0) {
+            for (int k = node.begin; k < node.end; ++k) {
+                const auto &f = m_tris[m_order[k]];
+                const Vec3 q = closestPointOnTriangle(p, m_points[f[0]], m_points[f[1]], m_points[f[2]]);
+                const double d2 = (q - p).squaredNorm();
+                if (d2 < best.distance2 || (d2 == best.distance2 && m_order[k] < best.triangle)) {
+                    best.distance2 = d2;
+                    best.point = q;
+                    best.triangle = m_order[k];
+                }
+            }
+            continue;
+        }
+        // Nearer child last, so it is popped first.
+        const Node &l = m_nodes[node.left], &r = m_nodes[node.right];
+        const double dl = boxDistance2(p, l.lo, l.hi), dr = boxDistance2(p, r.lo, r.hi);
+        if (dl < dr) {
+            stack[top++] = node.right;
+            stack[top++] = node.left;
+        } else {
+            stack[top++] = node.left;
+            stack[top++] = node.right;
+        }
+    }
+    return best;
+}
+
+} // namespace rosy::remesh

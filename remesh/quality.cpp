@@ -1,0 +1,315 @@
+/// \file quality.cpp
+#include "remesh/quality.h"
+
+#include "remesh/aabb_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace rosy::remesh {
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0;
+    const size_t k = std::min(v.size() - 1, size_t(std::floor(p * double(v.size() - 1) + 0.5)));
+    std::nth_element(v.begin(), v.begin() + long(k), v.end());
+    return v[k];
+}
+
+double angleDeg(const Vec3 &a, const Vec3 &b) {
+    const double na = a.norm(), nb = b.norm();
+    if (na == 0 || nb == 0) return 0;
+    return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+} // namespace
+
+QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vector<std::vector<int>> &polygons,
+                             const field::TangentFrames &frames, const field::RosyField &field,
+                             const field::SingularityReport &singularities, double edgeLength) {
+    const field::Mesh &mesh = frames.mesh();
+    QualityReport q;
+    q.nSym = field.nSym;
+    q.edgeLength = edgeLength;
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    q.diagonal = (hi - lo).norm();
+    const int regular = field.nSym == 6 ? 3 : 4;
+    const double targetAngle = field.nSym == 6 ? 60.0 : 90.0;
+    const int nP = int(positions.size());
+
+    // --- input topology
+    {
+        int boundary = 0;
+        for (int h = 0; h < mesh.nHalfedges(); ++h) boundary += mesh.isBoundaryHalfedge(h) ? 1 : 0;
+        q.inputBoundaryEdges = boundary;
+        q.inputEulerCharacteristic = mesh.nVertices() - mesh.nEdges() + mesh.nFaces();
+    }
+
+    // --- edges: (min, max) -> uses in each direction
+    struct EdgeUse {
+        int forward = 0, backward = 0;
+    };
+    std::map<std::pair<int, int>, EdgeUse> edges;
+    std::vector<char> usedVertex(nP, 0);
+    std::vector<std::vector<std::pair<int, int>>> corners(nP); // (prev, next) per face corner
+    q.faces = int(polygons.size());
+    for (const auto &poly : polygons) {
+        const int k = int(poly.size());
+        q.facesBySides[k]++;
+        std::vector<int> sorted = poly;
+        std::sort(sorted.begin(), sorted.end());
+        const bool repeated = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+        Vec3 newell = Vec3::Zero();
+        for (int i = 0; i < k; ++i) newell += positions[poly[i]].cross(positions[poly[(i + 1) % k]]);
+        if (repeated || 0.5 * newell.norm() < 1e-6 * edgeLength * edgeLength) q.degenerateFaces++;
+        for (int i = 0; i < k; ++i) {
+            const int a = poly[i], b = poly[(i + 1) % k];
+            usedVertex[a] = 1;
+            EdgeUse &e = edges[{std::min(a, b), std::max(a, b)}];
+            (a < b ? e.forward : e.backward)++;
+            corners[a].emplace_back(poly[(i + k - 1) % k], b);
+        }
+    }
+    q.edges = int(edges.size());
+    std::vector<char> onBoundary(nP, 0);
+    for (const auto &[key, use] : edges) {
+        const int total = use.forward + use.backward;
+        if (total > 2) q.nonManifoldEdges++;
+        if (use.forward > 1 || use.backward > 1) q.inconsistentEdges++;
+        if (total == 1) {
+            q.boundaryEdges++;
+            onBoundary[key.first] = onBoundary[key.second] = 1;
+        }
+    }
+    // Vertex fans: link each corner (prev, next) to the corner whose prev is its next.
+    for (int v = 0; v < nP; ++v) {
+        if (!usedVertex[v]) {
+            q.isolatedVertices++;
+            continue;
+        }
+        const auto &cs = corners[v];
+        std::map<int, int> byPrev;
+        bool bad = false;
+        for (size_t i = 0; i < cs.size(); ++i)
+            if (!byPrev.emplace(cs[i].first, int(i)).second) bad = true;
+        if (!bad) {
+            // Count chains: a corner starts one when no corner's next is its prev.
+            std::vector<char> seen(cs.size(), 0);
+            int components = 0;
+            std::map<int, int> byNext;
+            for (size_t i = 0; i < cs.size(); ++i) byNext.emplace(cs[i].second, int(i));
+            for (size_t i = 0; i < cs.size(); ++i) {
+                if (seen[i]) continue;
+                // walk back to a chain start (or around a cycle)
+                int s = int(i);
+                for (size_t guard = 0; guard < cs.size(); ++guard) {
+                    auto it = byNext.find(cs[s].first);
+                    if (it == byNext.end() || it->second == int(i)) break;
+                    s = it->second;
+                }
+                ++components;
+                for (int c = s; c >= 0 && !seen[c];) {
+                    seen[c] = 1;
+                    auto it = byPrev.find(cs[c].second);
+                    c = it == byPrev.end() ? -1 : it->second;
+                }
+            }
+            bad = components != 1;
+        }
+        if (bad) q.nonManifoldVertices++;
+    }
+    q.vertices = nP - q.isolatedVertices;
+    q.eulerCharacteristic = q.vertices - q.edges + q.faces;
+    q.manifold = q.nonManifoldEdges == 0 && q.nonManifoldVertices == 0;
+    q.oriented = q.inconsistentEdges == 0;
+    q.closed = q.boundaryEdges == 0;
+    q.regularFaceFraction = q.faces ? double(q.facesBySides[regular]) / q.faces : 0;
+
+    // --- valences and singularities
+    std::vector<std::vector<int>> nbrs(nP);
+    for (const auto &[key, use] : edges) {
+        nbrs[key.first].push_back(key.second);
+        nbrs[key.second].push_back(key.first);
+    }
+    std::vector<Vec3> sing;
+    for (const field::Singularity &s : singularities.singularities)
+        if (std::abs(s.indexNumerator) == 1) sing.push_back(s.position);
+    q.singularities = int(sing.size());
+    auto nearestSing = [&](const Vec3 &p) {
+        double best = std::numeric_limits<double>::infinity();
+        for (const Vec3 &s : sing) best = std::min(best, (s - p).norm());
+        return best;
+    };
+    std::vector<double> irregularDist;
+    std::vector<char> singHit(sing.size(), 0);
+    int interior = 0;
+    for (int v = 0; v < nP; ++v) {
+        if (!usedVertex[v] || onBoundary[v]) continue;
+        const int val = int(nbrs[v].size());
+        q.valenceHistogram[val]++;
+        ++interior;
+        if (val == 2) q.valence2Vertices++;
+        const int want = field.nSym == 6 ? 6 : 4;
+        if (val == want) continue;
+        q.irregularVertices++;
+        const double d = nearestSing(positions[v]);
+        irregularDist.push_back(d / edgeLength);
+        if (d <= 2 * edgeLength) q.irregularNearSingularity++;
+        for (size_t s = 0; s < sing.size(); ++s)
+            if ((sing[s] - positions[v]).norm() <= 2 * edgeLength) singHit[s] = 1;
+    }
+    q.irregularFraction = interior ? double(q.irregularVertices) / interior : 0;
+    q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
+    for (char h : singHit) q.singularitiesWithIrregularVertex += h;
+
+    // --- corner angles
+    std::vector<double> dev, devNear;
+    for (const auto &poly : polygons) {
+        const int k = int(poly.size());
+        for (int i = 0; i < k; ++i) {
+            const Vec3 &p = positions[poly[i]];
+            const double a = angleDeg(positions[poly[(i + k - 1) % k]] - p, positions[poly[(i + 1) % k]] - p);
+            dev.push_back(std::abs(a - targetAngle));
+            if (!sing.empty() && nearestSing(p) <= 2 * edgeLength) devNear.push_back(dev.back());
+        }
+    }
+    q.angleDevMedianDeg = percentile(dev, 0.5);
+    q.angleDevP90Deg = percentile(dev, 0.9);
+    q.cornersNearSingularities = int(devNear.size());
+    q.angleDevNearSingMedianDeg = percentile(devNear, 0.5);
+    q.angleDevNearSingP90Deg = percentile(devNear, 0.9);
+
+    // --- edge lengths and alignment with the field
+    const AabbTree input(mesh);
+    std::vector<double> lengths, align;
+    for (const auto &[key, use] : edges) {
+        const Vec3 d = positions[key.second] - positions[key.first];
+        lengths.push_back(d.norm());
+        const ClosestPoint c = input.closest(0.5 * (positions[key.first] + positions[key.second]));
+        if (c.triangle < 0) continue;
+        // the field at the triangle corner nearest the edge's midpoint
+        int v = mesh.face(c.triangle)[0];
+        for (int x : mesh.face(c.triangle))
+            if ((mesh.position(x) - c.point).squaredNorm() < (mesh.position(v) - c.point).squaredNorm()) v = x;
+        if (std::abs(field.u[v]) == 0) continue;
+        const Vec3 n = frames.normal(v);
+        const Vec3 dt = d - n * n.dot(d);
+        double best = 180;
+        for (double a : field::memberAngles(field.u[v], field.nSym))
+            best = std::min(best, angleDeg(dt, frames.tangentOfAngle(v, a)));
+        align.push_back(best);
+    }
+    double sum = 0, sum2 = 0;
+    for (double l : lengths) sum += l;
+    q.edgeLengthMean = lengths.empty() ? 0 : sum / double(lengths.size());
+    for (double l : lengths) sum2 += (l - q.edgeLengthMean) * (l - q.edgeLengthMean);
+    q.edgeLengthCv = lengths.size() > 1 && q.edgeLengthMean > 0
+                         ? std::sqrt(sum2 / double(lengths.size())) / q.edgeLengthMean
+                         : 0;
+    q.alignmentMedianDeg = percentile(align, 0.5);
+    q.alignmentP90Deg = percentile(align, 0.9);
+
+    // --- flipped faces and two one-sided distances
+    std::vector<std::array<int, 3>> tris; // polygons fanned from their first corner
+    for (const auto &poly : polygons)
+        for (size_t i = 1; i + 1 < poly.size(); ++i) tris.push_back({poly[0], poly[i], poly[i + 1]});
+    for (const auto &poly : polygons) {
+        Vec3 c = Vec3::Zero(), newell = Vec3::Zero();
+        for (size_t i = 0; i < poly.size(); ++i) {
+            c += positions[poly[i]];
+            newell += positions[poly[i]].cross(positions[poly[(i + 1) % poly.size()]]);
+        }
+        const ClosestPoint cp = input.closest(c / double(poly.size()));
+        if (cp.triangle >= 0 && newell.dot(mesh.faceNormal(cp.triangle)) < 0) q.flippedFaces++;
+    }
+    double maxOut = 0, sumOut = 0;
+    long long nOut = 0;
+    const double step = edgeLength / 3;
+    for (const auto &t : tris) {
+        const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+        const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+        const int k = std::clamp(int(std::ceil(longest / step)), 1, 64);
+        for (int i = 0; i <= k; ++i)
+            for (int j = 0; i + j <= k; ++j) {
+                const Vec3 p = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
+                const double d = std::sqrt(input.closest(p).distance2);
+                maxOut = std::max(maxOut, d);
+                sumOut += d;
+                ++nOut;
+            }
+    }
+    const AabbTree output(positions, tris);
+    double maxIn = 0, sumIn = 0;
+    long long nIn = 0;
+    auto sampleIn = [&](const Vec3 &p) {
+        const double d = std::sqrt(output.closest(p).distance2);
+        maxIn = std::max(maxIn, d);
+        sumIn += d;
+        ++nIn;
+    };
+    if (output.nTriangles() > 0) {
+        for (const Vec3 &p : mesh.positions()) sampleIn(p);
+        for (int f = 0; f < mesh.nFaces(); ++f) {
+            const auto &fc = mesh.face(f);
+            sampleIn((mesh.position(fc[0]) + mesh.position(fc[1]) + mesh.position(fc[2])) / 3);
+        }
+    }
+    const double pct = q.diagonal > 0 ? 100.0 / q.diagonal : 0;
+    q.distanceOutToInPct = maxOut * pct;
+    q.distanceInToOutPct = output.nTriangles() > 0 ? maxIn * pct : std::numeric_limits<double>::infinity();
+    q.distanceOutToInMeanPct = nOut ? sumOut / double(nOut) * pct : 0;
+    q.distanceInToOutMeanPct = nIn ? sumIn / double(nIn) * pct : 0;
+    return q;
+}
+
+void writeQualityJson(JsonWriter &json, const QualityReport &q) {
+    json.beginObject();
+    json.field("symmetry", q.nSym).field("edge_length", q.edgeLength).field("bbox_diagonal", q.diagonal);
+    json.field("vertices", q.vertices).field("edges", q.edges).field("faces", q.faces);
+    json.key("faces_by_sides").beginObject();
+    for (const auto &[k, n] : q.facesBySides) json.field(std::to_string(k), n);
+    json.endObject();
+    json.field(q.nSym == 6 ? "triangle_fraction" : "quad_fraction", q.regularFaceFraction);
+    json.key("topology").beginObject();
+    json.field("closed", q.closed).field("manifold", q.manifold).field("oriented", q.oriented);
+    json.field("euler_characteristic", q.eulerCharacteristic);
+    json.field("input_euler_characteristic", q.inputEulerCharacteristic);
+    json.field("boundary_edges", q.boundaryEdges).field("input_boundary_edges", q.inputBoundaryEdges);
+    json.field("non_manifold_edges", q.nonManifoldEdges).field("non_manifold_vertices", q.nonManifoldVertices);
+    json.field("inconsistent_edges", q.inconsistentEdges).field("isolated_vertices", q.isolatedVertices);
+    json.field("degenerate_faces", q.degenerateFaces).field("flipped_faces", q.flippedFaces);
+    json.endObject();
+    json.key("valence_histogram").beginObject();
+    for (const auto &[k, n] : q.valenceHistogram) json.field(std::to_string(k), n);
+    json.endObject();
+    json.key("irregular").beginObject();
+    json.field("vertices", q.irregularVertices).field("fraction", q.irregularFraction);
+    json.field("valence2", q.valence2Vertices);
+    json.field("within_2L_of_singularity", q.irregularNearSingularity);
+    json.field("distance_to_singularity_median_L", q.irregularDistanceMedianL);
+    json.field("singularities", q.singularities);
+    json.field("singularities_with_irregular_vertex", q.singularitiesWithIrregularVertex);
+    json.endObject();
+    json.key("angle_deviation_deg").beginObject();
+    json.field("target", q.nSym == 6 ? 60.0 : 90.0);
+    json.field("median", q.angleDevMedianDeg).field("p90", q.angleDevP90Deg);
+    json.field("near_singularities_corners", q.cornersNearSingularities);
+    json.field("near_singularities_median", q.angleDevNearSingMedianDeg);
+    json.field("near_singularities_p90", q.angleDevNearSingP90Deg);
+    json.endObject();
+    json.key("edge_length").beginObject();
+    json.field("mean", q.edgeLengthMean).field("mean_over_L", q.edgeLength > 0 ? q.edgeLengthMean / q.edgeLength : 0);
+    json.field("cv", q.edgeLengthCv).endObject();
+    json.key("alignment_deg").beginObject().field("median", q.alignmentMedianDeg).field("p90", q.alignmentP90Deg);
+    json.endObject();
+    json.key("distance_pct_of_diagonal").beginObject();
+    json.field("output_to_input", q.distanceOutToInPct).field("input_to_output", q.distanceInToOutPct);
+    json.field("output_to_input_mean", q.distanceOutToInMeanPct).field("input_to_output_mean", q.distanceInToOutMeanPct);
+    json.endObject();
+    json.endObject();
+}
+
+} // namespace rosy::remesh

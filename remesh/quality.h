@@ -1,0 +1,67 @@
+#pragma once
+/// \file quality.h
+/// Independent checks of a polygon mesh against the surface and field it was
+/// made from: written apart from the remesher and using nothing of it but the
+/// closest-point tree, so that they can catch its mistakes. The report is what
+/// `rosyhatch remesh --report` writes (docs/remeshing.md, "The report").
+
+#include "core/json.h"
+#include "field/frames.h"
+#include "field/singularities.h"
+
+#include <map>
+#include <vector>
+
+namespace rosy::remesh {
+
+using field::Vec3;
+
+struct QualityReport {
+    int nSym = 4;
+    double edgeLength = 0; ///< the target L
+    double diagonal = 0;   ///< input bounding-box diagonal
+    int vertices = 0, edges = 0, faces = 0;
+    std::map<int, int> facesBySides;
+    double regularFaceFraction = 0; ///< quads (N = 4) or triangles (N = 6) / faces
+    // topology
+    int nonManifoldEdges = 0;    ///< edges with more than two faces
+    int inconsistentEdges = 0;   ///< edges traversed twice in one direction
+    int nonManifoldVertices = 0; ///< vertices whose faces are not one fan
+    int boundaryEdges = 0;
+    int isolatedVertices = 0;
+    int eulerCharacteristic = 0, inputEulerCharacteristic = 0;
+    int inputBoundaryEdges = 0;
+    bool closed = false, manifold = false, oriented = false;
+    // faces
+    int degenerateFaces = 0; ///< a repeated vertex, or area below 1e-6 L²
+    int flippedFaces = 0;    ///< normal against the input surface's at the face centre
+    // vertices
+    std::map<int, int> valenceHistogram; ///< interior vertices
+    int irregularVertices = 0;           ///< interior, valence != 4 (N = 4) or 6 (N = 6)
+    int valence2Vertices = 0;
+    double irregularFraction = 0;
+    /// Irregular vertices at most two edge lengths (2 L) from a singularity, and
+    /// the median distance (in L) of all irregular vertices to their nearest one.
+    int irregularNearSingularity = 0;
+    double irregularDistanceMedianL = 0;
+    /// Singularities of index ±1/N with an irregular vertex within 2 L.
+    int singularities = 0, singularitiesWithIrregularVertex = 0;
+    // geometry
+    double angleDevMedianDeg = 0, angleDevP90Deg = 0;       ///< corners vs 90° (60°)
+    double angleDevNearSingMedianDeg = 0, angleDevNearSingP90Deg = 0; ///< corners within 2 L of a singularity
+    int cornersNearSingularities = 0;
+    double edgeLengthMean = 0, edgeLengthCv = 0;
+    double alignmentMedianDeg = 0, alignmentP90Deg = 0; ///< edges vs nearest field member
+    double distanceOutToInPct = 0, distanceInToOutPct = 0; ///< one-sided Hausdorff, % of diagonal
+    double distanceOutToInMeanPct = 0, distanceInToOutMeanPct = 0;
+};
+
+/// Measures `polygons` over `positions` against frames.mesh(), `field` and its singularities.
+QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vector<std::vector<int>> &polygons,
+                             const field::TangentFrames &frames, const field::RosyField &field,
+                             const field::SingularityReport &singularities, double edgeLength);
+
+/// Writes the report as one JSON object (keys as in docs/remeshing.md).
+void writeQualityJson(JsonWriter &json, const QualityReport &q);
+
+} // namespace rosy::remesh

@@ -1,0 +1,762 @@
+/// \file remesh.cpp
+/// Position field and extraction (see remesh.h and docs/remeshing.md). Written
+/// from the description in Jakob, Tarini, Panozzo, Sorkine-Hornung 2015; the
+/// orientation field is ours (the pipeline's N-RoSy field), only positions are solved.
+
+#include "remesh/remesh.h"
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "remesh/aabb_tree.h"
+
+#include <OpenMesh/Core/Utils/Noncopyable.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <unordered_map>
+
+namespace rosy::remesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+/// The local lattice of one vertex: origin o, first axis q (unit, tangent), normal n.
+/// N = 4: squares spanned by q and n×q; N = 6: triangles spanned by q and q turned by 60°.
+struct Lattice {
+    int nSym = 4;
+    double s = 1; ///< spacing L
+
+    Vec3 second(const Vec3 &q, const Vec3 &n) const {
+        const Vec3 w = n.cross(q);
+        return nSym == 4 ? w : Vec3(0.5 * q + (std::sqrt(3.0) / 2) * w);
+    }
+    /// Lattice coordinates (in units of s) of tangent vector d.
+    Eigen::Vector2d coords(const Vec3 &d, const Vec3 &q, const Vec3 &n) const {
+        const Vec3 w = n.cross(q);
+        if (nSym == 4) return {q.dot(d) / s, w.dot(d) / s};
+        const double b = w.dot(d) * (2 / std::sqrt(3.0));
+        return {(q.dot(d) - 0.5 * b) / s, b / s};
+    }
+    Vec3 floorPoint(const Vec3 &o, const Vec3 &q, const Vec3 &n, const Vec3 &p) const {
+        const Eigen::Vector2d c = coords(p - o, q, n);
+        return o + std::floor(c.x()) * s * q + std::floor(c.y()) * s * second(q, n);
+    }
+    Vec3 roundPoint(const Vec3 &o, const Vec3 &q, const Vec3 &n, const Vec3 &p) const {
+        const Eigen::Vector2d c = coords(p - o, q, n);
+        return o + std::round(c.x()) * s * q + std::round(c.y()) * s * second(q, n);
+    }
+    Eigen::Vector2i roundIndex(const Vec3 &d, const Vec3 &q, const Vec3 &n) const {
+        const Eigen::Vector2d c = coords(d, q, n);
+        return {int(std::lround(c.x())), int(std::lround(c.y()))};
+    }
+    /// Of the N rotations of q1 about n1, the one closest to q0.
+    Vec3 compatOrientation(const Vec3 &q0, const Vec3 &q1, const Vec3 &n1) const {
+        const Vec3 w1 = n1.cross(q1);
+        static const double c6[6] = {1, 0.5, -0.5, -1, -0.5, 0.5};
+        static const double s6[6] = {0, 0.8660254037844386, 0.8660254037844386, 0, -0.8660254037844386,
+                                     -0.8660254037844386};
+        static const double c4[4] = {1, 0, -1, 0}, s4[4] = {0, 1, 0, -1};
+        Vec3 best = q1;
+        double bestDot = q0.dot(q1);
+        for (int k = 1; k < nSym; ++k) {
+            const Vec3 c = nSym == 4 ? Vec3(c4[k] * q1 + s4[k] * w1) : Vec3(c6[k] * q1 + s6[k] * w1);
+            const double d = q0.dot(c);
+            if (d > bestDot) bestDot = d, best = c;
+        }
+        return best;
+    }
+    /// Is integer offset k one lattice edge?
+    bool isUnit(const Eigen::Vector2i &k) const {
+        const int a = std::abs(k.x()), b = std::abs(k.y());
+        if (a + b == 1) return true;
+        return nSym == 6 && k.x() == -k.y() && a == 1;
+    }
+};
+
+/// The point nearest to the midpoint of p0, p1 that lies in both tangent planes
+/// (x = m + α n0 + β n1 with n0·x = n0·p0 and n1·x = n1·p1, regularized where the
+/// planes are nearly parallel).
+Vec3 middlePoint(const Vec3 &p0, const Vec3 &n0, const Vec3 &p1, const Vec3 &n1) {
+    const Vec3 m = 0.5 * (p0 + p1);
+    const double c = n0.dot(n1);
+    const double r0 = n0.dot(p0 - m), r1 = n1.dot(p1 - m);
+    const double den = 1 - c * c + 1e-4;
+    const double alpha = (r0 - c * r1) / den, beta = (r1 - c * r0) / den;
+    return m + alpha * n0 + beta * n1;
+}
+
+struct Level {
+    std::vector<Vec3> p, n, q, o; ///< position, normal, orientation, lattice point
+    std::vector<double> area;
+    std::vector<int> adjOffset, adj; ///< CSR neighbour lists, sorted
+    std::vector<int> toCoarse;        ///< fine vertex -> vertex of the next level
+    std::vector<char> pinned;
+    int size() const { return int(p.size()); }
+};
+
+/// Closest pair (one corner of each cell around the two tangent planes' middle point)
+/// of the lattices (p0, n0, q0, o0) and (p1, n1, q1, o1); q1 already matched to q0.
+std::pair<Vec3, Vec3> compatPosition(const Lattice &lat, const Vec3 &p0, const Vec3 &n0, const Vec3 &q0,
+                                     const Vec3 &o0, const Vec3 &p1, const Vec3 &n1, const Vec3 &q1,
+                                     const Vec3 &o1) {
+    // The lattice-0 point nearest the middle, and the lattice-1 point nearest to it.
+    const Vec3 m = middlePoint(p0, n0, p1, n1);
+    const Vec3 c0 = lat.roundPoint(o0, q0, n0, m);
+    return {c0, lat.roundPoint(o1, q1, n1, c0)};
+}
+
+Vec3 perpendicularUnit(const Vec3 &n) {
+    Vec3 a = std::abs(n.x()) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    return (a - n * n.dot(a)).normalized();
+}
+
+/// The finest level: the input's vertices with the field's first member direction,
+/// midpoint-subdivided (in the faces' planes, so the surface is unchanged) until the
+/// mean edge is at most kMaxEdge L, so that no edge jumps over a lattice point.
+/// With `pinTo`, the corners of each singular face (and the subdivision vertices
+/// between two corners of one such face) keep the lattice point at the singularity.
+constexpr double kMaxEdge = 0.5;
+
+Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
+                  const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices, int &subdivisions) {
+    const field::Mesh &mesh = frames.mesh();
+    const int nV0 = mesh.nVertices();
+    Level L;
+    L.p = mesh.positions();
+    L.n.resize(nV0);
+    L.q.resize(nV0);
+    for (int v = 0; v < nV0; ++v) {
+        L.n[v] = frames.normal(v);
+        const double a = std::abs(field.u[v]) > 0 ? field::memberAngle(field.u[v], field.nSym) : 0.0;
+        Vec3 q = frames.tangentOfAngle(v, a);
+        q -= L.n[v] * L.n[v].dot(q);
+        L.q[v] = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(L.n[v]);
+    }
+    std::vector<int> pinId(nV0, -1); // which singularity a vertex is pinned to
+    for (size_t k = 0; k < pinFaces.size(); ++k)
+        for (int v : mesh.face(pinFaces[k].first))
+            if (pinId[v] < 0) pinId[v] = int(k);
+    std::vector<std::array<int, 3>> tris(mesh.faces().begin(), mesh.faces().end());
+    auto meanEdge = [&] {
+        double sum = 0;
+        for (const auto &t : tris)
+            for (int k = 0; k < 3; ++k) sum += (L.p[t[k]] - L.p[t[(k + 1) % 3]]).norm();
+        return tris.empty() ? 0.0 : sum / (3.0 * double(tris.size()));
+    };
+    subdivisions = 0;
+    // Refuse before allocating: each subdivision halves the edges and about
+    // quadruples the vertices.
+    const double ratio = meanEdge() / (kMaxEdge * lat.s);
+    const int needed = ratio > 1 ? int(std::ceil(std::log2(ratio))) : 0;
+    if (needed > 15 || double(L.p.size()) * std::pow(4.0, needed) > double(maxVertices))
+        throw InputError(FileLoc{"--edge"},
+                         "the edge length is too short for this mesh: the remesher would need more than " +
+                             std::to_string(maxVertices) + " vertices",
+                         "give a longer --edge");
+    while (meanEdge() > kMaxEdge * lat.s) {
+        if (4 * (long long)(L.p.size()) > 4 * maxVertices)
+            throw InputError(FileLoc{"--edge"},
+                             "the edge length is too short for this mesh: the remesher would need more than " +
+                                 std::to_string(maxVertices) + " vertices",
+                             "give a longer --edge");
+        ++subdivisions;
+        std::unordered_map<long long, int> mid;
+        mid.reserve(3 * tris.size());
+        auto midpoint = [&](int a, int b) {
+            const long long key = (long long)std::min(a, b) << 32 | (long long)std::max(a, b);
+            auto it = mid.find(key);
+            if (it != mid.end()) return it->second;
+            const int id = int(L.p.size());
+            const Vec3 n = (L.n[a] + L.n[b]).norm() > 1e-12 ? Vec3((L.n[a] + L.n[b]).normalized()) : L.n[a];
+            Vec3 q = L.q[a] + lat.compatOrientation(L.q[a], L.q[b], L.n[b]);
+            q -= n * n.dot(q);
+            L.p.push_back(0.5 * (L.p[a] + L.p[b]));
+            L.n.push_back(n);
+            L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
+            pinId.push_back(pinId[a] >= 0 && pinId[a] == pinId[b] ? pinId[a] : -1);
+            mid.emplace(key, id);
+            return id;
+        };
+        std::vector<std::array<int, 3>> next;
+        next.reserve(4 * tris.size());
+        for (const auto &t : tris) {
+            const int m0 = midpoint(t[0], t[1]), m1 = midpoint(t[1], t[2]), m2 = midpoint(t[2], t[0]);
+            next.push_back({t[0], m0, m2});
+            next.push_back({m0, t[1], m1});
+            next.push_back({m2, m1, t[2]});
+            next.push_back({m0, m1, m2});
+        }
+        tris.swap(next);
+    }
+    const int nV = int(L.p.size());
+    L.area.assign(nV, 0.0);
+    std::vector<std::vector<int>> nb(nV);
+    for (const auto &t : tris) {
+        const double area = 0.5 * (L.p[t[1]] - L.p[t[0]]).cross(L.p[t[2]] - L.p[t[0]]).norm();
+        for (int k = 0; k < 3; ++k) {
+            L.area[t[k]] += area / 3;
+            nb[t[k]].push_back(t[(k + 1) % 3]);
+            nb[t[(k + 1) % 3]].push_back(t[k]);
+        }
+    }
+    L.adjOffset.assign(1, 0);
+    for (auto &list : nb) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        L.adj.insert(L.adj.end(), list.begin(), list.end());
+        L.adjOffset.push_back(int(L.adj.size()));
+    }
+    L.o = L.p;
+    L.pinned.assign(nV, 0);
+    for (int v = 0; v < nV; ++v)
+        if (pinId[v] >= 0) {
+            const Vec3 &target = pinFaces[pinId[v]].second;
+            L.pinned[v] = 1;
+            L.o[v] = target - L.n[v] * L.n[v].dot(target - L.p[v]);
+        }
+    return L;
+}
+
+/// Pairs neighbours (best aligned normals and similar areas first) into the next level.
+Level coarsen(Level &fine) {
+    const int n = fine.size();
+    struct Cand {
+        double score;
+        int i, j;
+    };
+    std::vector<Cand> cands;
+    for (int i = 0; i < n; ++i)
+        for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
+            const int j = fine.adj[k];
+            if (j <= i) continue;
+            const double ratio = std::min(fine.area[i], fine.area[j]) / std::max(1e-300, std::max(fine.area[i], fine.area[j]));
+            cands.push_back({fine.n[i].dot(fine.n[j]) * ratio, i, j});
+        }
+    std::sort(cands.begin(), cands.end(), [](const Cand &a, const Cand &b) {
+        if (a.score != b.score) return a.score > b.score;
+        return a.i != b.i ? a.i < b.i : a.j < b.j;
+    });
+    std::vector<int> mate(n, -1);
+    for (const Cand &c : cands)
+        if (mate[c.i] < 0 && mate[c.j] < 0) mate[c.i] = c.j, mate[c.j] = c.i;
+    // Every neighbour of a vertex left unmatched is matched (else they would be a
+    // pair): it joins its best-scored neighbour's pair, so each level at least halves.
+    std::vector<int> rep(n);
+    for (int i = 0; i < n; ++i) rep[i] = mate[i] >= 0 ? std::min(i, mate[i]) : -1;
+    for (const Cand &c : cands) {
+        if (mate[c.i] < 0 && rep[c.i] < 0) rep[c.i] = rep[c.j];
+        if (mate[c.j] < 0 && rep[c.j] < 0) rep[c.j] = rep[c.i];
+    }
+    for (int i = 0; i < n; ++i)
+        if (rep[i] < 0) rep[i] = i; // isolated
+    fine.toCoarse.assign(n, -1);
+    Level coarse;
+    std::vector<int> idOfRep(n, -1);
+    std::vector<Vec3> sumP, sumN;
+    for (int i = 0; i < n; ++i) {
+        int &id = idOfRep[rep[i]];
+        if (id < 0) {
+            id = coarse.size();
+            coarse.p.push_back(Vec3::Zero());
+            coarse.n.push_back(Vec3::Zero());
+            coarse.q.push_back(fine.q[rep[i]]);
+            coarse.area.push_back(0);
+        }
+        fine.toCoarse[i] = id;
+        coarse.p[id] += fine.p[i] * fine.area[i];
+        coarse.n[id] += fine.n[i] * fine.area[i];
+        coarse.area[id] += fine.area[i];
+    }
+    for (int c = 0; c < coarse.size(); ++c) {
+        Vec3 &p = coarse.p[c], &nn = coarse.n[c], &q = coarse.q[c];
+        p = coarse.area[c] > 0 ? Vec3(p / coarse.area[c]) : fine.p[c];
+        nn = nn.norm() > 1e-300 ? Vec3(nn.normalized()) : Vec3(0, 0, 1);
+        q -= nn * nn.dot(q);
+        q = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(nn);
+    }
+    std::vector<std::vector<int>> nb(coarse.size());
+    for (int i = 0; i < n; ++i)
+        for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
+            const int ci = fine.toCoarse[i], cj = fine.toCoarse[fine.adj[k]];
+            if (ci != cj) nb[ci].push_back(cj);
+        }
+    coarse.adjOffset.assign(1, 0);
+    for (auto &list : nb) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        coarse.adj.insert(coarse.adj.end(), list.begin(), list.end());
+        coarse.adjOffset.push_back(int(coarse.adj.size()));
+    }
+    coarse.pinned.assign(coarse.size(), 0);
+    coarse.o.assign(coarse.size(), Vec3::Zero());
+    for (int i = 0; i < n; ++i)
+        if (fine.pinned[i] && !coarse.pinned[fine.toCoarse[i]]) {
+            const int c = fine.toCoarse[i];
+            coarse.pinned[c] = 1;
+            coarse.o[c] = fine.o[i] - coarse.n[c] * coarse.n[c].dot(fine.o[i] - coarse.p[c]);
+        }
+    return coarse;
+}
+
+/// Greedy colouring in vertex order (each vertex takes the smallest colour none of
+/// its lower-numbered neighbours has): vertices of one colour are never
+/// neighbours, so they can be updated at the same time. Vertices grouped by
+/// colour, each group in index order.
+std::vector<std::vector<int>> colourClasses(const Level &L) {
+    std::vector<int> colour(L.size(), -1);
+    std::vector<std::vector<int>> classes;
+    std::vector<char> taken;
+    for (int i = 0; i < L.size(); ++i) {
+        taken.assign(classes.size() + 1, 0);
+        for (int k = L.adjOffset[i]; k < L.adjOffset[i + 1]; ++k)
+            if (colour[L.adj[k]] >= 0) taken[colour[L.adj[k]]] = 1;
+        int c = 0;
+        while (taken[c]) ++c;
+        colour[i] = c;
+        if (c == int(classes.size())) classes.emplace_back();
+        classes[c].push_back(i);
+    }
+    return classes;
+}
+
+/// One Gauss–Seidel sweep of the position field over a level, colour by colour;
+/// within a colour the vertices are independent (parallel, same result for any
+/// thread count).
+void smoothPositions(Level &L, const Lattice &lat, const std::vector<std::vector<int>> &classes) {
+    for (const std::vector<int> &cls : classes)
+        parallelFor(0, int64_t(cls.size()), [&](int64_t idx) {
+            const int i = cls[size_t(idx)];
+            if (L.pinned[i]) return;
+            const Vec3 &n = L.n[i], &q = L.q[i], &p = L.p[i];
+            Vec3 o = L.o[i];
+            double weight = 0;
+            for (int k = L.adjOffset[i]; k < L.adjOffset[i + 1]; ++k) {
+                const int j = L.adj[k];
+                const Vec3 qj = lat.compatOrientation(q, L.q[j], L.n[j]);
+                const auto [oi, oj] = compatPosition(lat, p, n, q, o, L.p[j], L.n[j], qj, L.o[j]);
+                o = (oi * weight + oj) / (weight + 1);
+                weight += 1;
+                o -= n * n.dot(o - p);
+            }
+            L.o[i] = lat.roundPoint(o, q, n, p);
+        }, 512);
+}
+
+struct UnionFind {
+    std::vector<int> parent;
+    explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+    int find(int x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    void unite(int a, int b) {
+        a = find(a), b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+/// N = 4: two triangles sharing an edge become one quad (their union), greedily in
+/// face order. Polygons are rewritten in place (merged ones removed).
+void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions, int nSym,
+                        std::map<std::string, int> &repairs) {
+    int merged = 0;
+    if (nSym == 4) {
+        std::map<std::pair<int, int>, int> triByEdge; // directed edge -> triangle
+        for (int f = 0; f < int(polygons.size()); ++f)
+            if (polygons[f].size() == 3)
+                for (int k = 0; k < 3; ++k) triByEdge[{polygons[f][k], polygons[f][(k + 1) % 3]}] = f;
+        std::vector<char> gone(polygons.size(), 0), touched(polygons.size(), 0);
+        for (int f = 0; f < int(polygons.size()); ++f) {
+            if (polygons[f].size() != 3 || touched[f]) continue;
+            // the longest edge first: two half-squares share their diagonal
+            int order[3] = {0, 1, 2};
+            auto len = [&](int k) {
+                return (positions[polygons[f][k]] - positions[polygons[f][(k + 1) % 3]]).squaredNorm();
+            };
+            std::sort(order, order + 3, [&](int x, int y) { return len(x) > len(y) || (len(x) == len(y) && x < y); });
+            for (int k : order) {
+                const int a = polygons[f][k], b = polygons[f][(k + 1) % 3], c = polygons[f][(k + 2) % 3];
+                auto it = triByEdge.find({b, a});
+                if (it == triByEdge.end() || touched[it->second] || it->second == f) continue;
+                const std::vector<int> &g = polygons[it->second];
+                int d = -1;
+                for (int x : g)
+                    if (x != a && x != b) d = x;
+                if (d < 0 || d == c) continue;
+                gone[it->second] = touched[it->second] = touched[f] = 1;
+                polygons[f] = {a, d, b, c};
+                ++merged;
+                break;
+            }
+        }
+        std::vector<std::vector<int>> kept;
+        for (size_t f = 0; f < polygons.size(); ++f)
+            if (!gone[f]) kept.push_back(std::move(polygons[f]));
+        polygons.swap(kept);
+    }
+    repairs["triangle_pairs_merged"] = merged;
+    // N = 6: quads split along their shorter diagonal (unless it is already an edge).
+    int splitQuads = 0;
+    if (nSym == 6) {
+        std::set<std::pair<int, int>> edges;
+        for (const auto &poly : polygons)
+            for (size_t k = 0; k < poly.size(); ++k) {
+                const int a = poly[k], b = poly[(k + 1) % poly.size()];
+                edges.insert({std::min(a, b), std::max(a, b)});
+            }
+        std::vector<std::vector<int>> out;
+        for (auto &poly : polygons) {
+            if (poly.size() != 4) {
+                out.push_back(std::move(poly));
+                continue;
+            }
+            const int s0 = (positions[poly[0]] - positions[poly[2]]).squaredNorm() <=
+                                   (positions[poly[1]] - positions[poly[3]]).squaredNorm()
+                               ? 0
+                               : 1;
+            bool done = false;
+            for (int k : {s0, 1 - s0}) {
+                const int a = poly[k], b = poly[k + 2];
+                if (edges.count({std::min(a, b), std::max(a, b)})) continue;
+                edges.insert({std::min(a, b), std::max(a, b)});
+                out.push_back({poly[k], poly[k + 1], poly[k + 2]});
+                out.push_back({poly[k + 2], poly[(k + 3) % 4], poly[k]});
+                ++splitQuads;
+                done = true;
+                break;
+            }
+            if (!done) out.push_back(std::move(poly));
+        }
+        polygons.swap(out);
+    }
+    repairs["quads_split"] = splitQuads;
+}
+
+/// A vertex left with two neighbours a, b (in exactly two faces) is removed: a
+/// face of four or more sides loses it, a triangle (a, v, b) goes (its third
+/// edge a–b is then shared by the faces on both sides of it). Keeps the mesh
+/// manifold and oriented; valence-2 vertices are a target of issue 20.
+void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, std::map<std::string, int> &repairs) {
+    std::vector<std::vector<int>> facesOf(nVertices);
+    for (int f = 0; f < int(polygons.size()); ++f)
+        for (int v : polygons[f]) facesOf[v].push_back(f);
+    std::vector<char> gone(polygons.size(), 0);
+    int dissolved = 0;
+    for (int v = 0; v < nVertices; ++v) {
+        if (facesOf[v].size() != 2) continue;
+        const int f = facesOf[v][0], g = facesOf[v][1];
+        if (f == g || gone[f] || gone[g]) continue;
+        if (polygons[f].size() == 3 && polygons[g].size() == 3) continue; // a double triangle: leave it
+        for (int h : {f, g}) {
+            if (polygons[h].size() == 3) {
+                gone[h] = 1;
+                for (int x : polygons[h]) // its other two corners no longer list it
+                    if (x != v) facesOf[x].erase(std::find(facesOf[x].begin(), facesOf[x].end(), h));
+            } else {
+                polygons[h].erase(std::find(polygons[h].begin(), polygons[h].end(), v));
+            }
+        }
+        facesOf[v].clear();
+        ++dissolved;
+    }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (!gone[f]) kept.push_back(std::move(polygons[f]));
+    polygons.swap(kept);
+    repairs["valence2_dissolved_in_faces"] = dissolved;
+}
+
+/// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
+/// its neighbours, then back onto the input surface.
+void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const AabbTree &tree,
+                   int rounds, std::map<std::string, int> &repairs) {
+    std::vector<std::vector<int>> nb(positions.size());
+    for (const auto &poly : polygons)
+        for (size_t k = 0; k < poly.size(); ++k) {
+            nb[poly[k]].push_back(poly[(k + 1) % poly.size()]);
+            nb[poly[(k + 1) % poly.size()]].push_back(poly[k]);
+        }
+    for (auto &list : nb) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+    for (int r = 0; r < rounds; ++r) {
+        std::vector<Vec3> next = positions;
+        for (size_t v = 0; v < positions.size(); ++v) {
+            if (nb[v].empty()) continue;
+            Vec3 mean = Vec3::Zero();
+            for (int u : nb[v]) mean += positions[u];
+            mean /= double(nb[v].size());
+            next[v] = tree.closest(0.5 * (positions[v] + mean)).point;
+        }
+        positions.swap(next);
+    }
+    repairs["relaxation_rounds"] = rounds;
+}
+
+} // namespace
+
+RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
+                    const field::SingularityReport &singularities, const RemeshOptions &options) {
+    if (field.nSym != 4 && field.nSym != 6)
+        throw InputError(FileLoc{"--symmetry"},
+                         "remeshing needs a 4-RoSy (quads) or 6-RoSy (triangles) field, got N = " +
+                             std::to_string(field.nSym),
+                         "use --symmetry 4 or 6");
+    if (!(options.edgeLength > 0) || !std::isfinite(options.edgeLength))
+        throw InputError(FileLoc{"--edge"}, "the edge length must be positive and finite", "e.g. --edge 0.01");
+    const field::Mesh &mesh = frames.mesh();
+    RemeshResult result;
+    result.nSym = field.nSym;
+    const Lattice lat{field.nSym, options.edgeLength};
+
+    // --- hierarchy
+    auto t0 = Clock::now();
+    std::vector<Level> levels;
+    std::vector<std::pair<int, Vec3>> pinFaces;
+    if (options.separatrices)
+        for (const field::Singularity &sg : singularities.singularities)
+            if (std::abs(sg.indexNumerator) == 1) pinFaces.emplace_back(sg.face, sg.position);
+    int subdivisions = 0;
+    levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices, subdivisions));
+    result.repairs["input_subdivisions"] = subdivisions;
+    while (levels.back().size() > 64 && levels.size() < 40) {
+        Level next = coarsen(levels.back());
+        if (next.size() > 0.95 * levels.back().size()) {
+            levels.back().toCoarse.clear();
+            break;
+        }
+        levels.push_back(std::move(next));
+    }
+    result.timingsMs["hierarchy"] = msSince(t0);
+
+    // --- position field, coarse to fine
+    t0 = Clock::now();
+    Level &top = levels.back();
+    for (int i = 0; i < top.size(); ++i)
+        if (!top.pinned[i]) top.o[i] = top.p[i];
+    for (int l = int(levels.size()) - 1; l >= 0; --l) {
+        Level &L = levels[l];
+        if (l + 1 < int(levels.size())) {
+            const Level &C = levels[l + 1];
+            for (int i = 0; i < L.size(); ++i) {
+                if (L.pinned[i]) continue;
+                const Vec3 &oc = C.o[L.toCoarse[i]];
+                L.o[i] = oc - L.n[i] * L.n[i].dot(oc - L.p[i]);
+            }
+        }
+        const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
+        const std::vector<std::vector<int>> classes = colourClasses(L);
+        for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat, classes);
+    }
+    result.timingsMs["position"] = msSince(t0);
+
+    // --- extraction: collapse edges within one lattice point, keep unit edges
+    t0 = Clock::now();
+    const Level &F = levels[0];
+    const int nV = F.size();
+    UnionFind uf(nV);
+    std::vector<std::pair<int, int>> unitEdges;
+    for (int i = 0; i < nV; ++i)
+        for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
+            const int j = F.adj[k];
+            if (j <= i) continue;
+            const Vec3 qj = lat.compatOrientation(F.q[i], F.q[j], F.n[j]);
+            const auto [oi, oj] = compatPosition(lat, F.p[i], F.n[i], F.q[i], F.o[i], F.p[j], F.n[j], qj, F.o[j]);
+            const Eigen::Vector2i ki = lat.roundIndex(F.o[i] - oi, F.q[i], F.n[i]);
+            const Eigen::Vector2i kj = lat.roundIndex(F.o[j] - oj, qj, F.n[j]);
+            const Eigen::Vector2i d = kj - ki;
+            if (d.x() == 0 && d.y() == 0) uf.unite(i, j);
+            else if (lat.isUnit(d)) unitEdges.emplace_back(i, j);
+        }
+    // Output vertices: one per cluster, numbered by their smallest member.
+    std::vector<int> cluster(nV, -1);
+    std::vector<Vec3> cp, cn, cq;
+    std::vector<int> count;
+    for (int i = 0; i < nV; ++i) {
+        const int r = uf.find(i);
+        if (cluster[r] < 0) {
+            cluster[r] = int(cp.size());
+            cp.push_back(Vec3::Zero());
+            cn.push_back(Vec3::Zero());
+            cq.push_back(F.q[i]);
+            count.push_back(0);
+        }
+        const int c = cluster[i] = cluster[r];
+        cp[c] += F.o[i];
+        cn[c] += F.n[i] * F.area[i];
+        ++count[c];
+    }
+    const int nC = int(cp.size());
+    const AabbTree tree(mesh);
+    parallelFor(0, nC, [&](int64_t c) { cp[c] = tree.closest(cp[c] / count[c]).point; });
+    for (int c = 0; c < nC; ++c) {
+        cn[c] = cn[c].norm() > 0 ? Vec3(cn[c].normalized()) : Vec3(0, 0, 1);
+        cq[c] -= cn[c] * cn[c].dot(cq[c]);
+        cq[c] = cq[c].norm() > 1e-12 ? Vec3(cq[c].normalized()) : perpendicularUnit(cn[c]);
+    }
+    std::vector<std::set<int>> graph(nC);
+    for (const auto &[i, j] : unitEdges) {
+        const int a = cluster[i], b = cluster[j];
+        if (a == b) continue;
+        graph[a].insert(b);
+        graph[b].insert(a);
+    }
+    // Clean the graph: no dangling edges, no vertex of degree 2 (it would be a
+    // valence-2 vertex between two faces): its two edges become one. Then sort
+    // each vertex's neighbours counter-clockwise about its normal and trace the
+    // faces (from u -> v the next vertex is u's clockwise neighbour around v: the
+    // face is on the left). An edge with the same face on both sides (a bridge)
+    // is removed and everything is done again.
+    int dangling = 0, dissolved = 0, bridges = 0;
+    std::vector<std::vector<int>> ring(nC), faces;
+    auto slotOf = [&](int v, int u) {
+        return int(std::find(ring[v].begin(), ring[v].end(), u) - ring[v].begin());
+    };
+    for (int round = 0; round < 16; ++round) {
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int v = 0; v < nC; ++v) {
+                if (graph[v].size() == 1) {
+                    const int a = *graph[v].begin();
+                    graph[a].erase(v);
+                    graph[v].clear();
+                    ++dangling;
+                    changed = true;
+                } else if (graph[v].size() == 2) {
+                    const int a = *graph[v].begin(), b = *graph[v].rbegin();
+                    graph[a].erase(v);
+                    graph[b].erase(v);
+                    graph[v].clear();
+                    graph[a].insert(b);
+                    graph[b].insert(a);
+                    ++dissolved;
+                    changed = true;
+                }
+            }
+        }
+        for (int v = 0; v < nC; ++v) {
+            const Vec3 w = cn[v].cross(cq[v]);
+            std::vector<std::pair<double, int>> byAngle;
+            for (int u : graph[v]) {
+                const Vec3 d = cp[u] - cp[v];
+                byAngle.emplace_back(std::atan2(w.dot(d), cq[v].dot(d)), u);
+            }
+            std::sort(byAngle.begin(), byAngle.end());
+            ring[v].clear();
+            for (const auto &[angle, u] : byAngle) ring[v].push_back(u);
+        }
+        std::vector<std::vector<int>> faceOf(nC);
+        for (int v = 0; v < nC; ++v) faceOf[v].assign(ring[v].size(), -1);
+        faces.clear();
+        for (int v0 = 0; v0 < nC; ++v0)
+            for (int s0 = 0; s0 < int(ring[v0].size()); ++s0) {
+                if (faceOf[v0][s0] >= 0) continue;
+                const int id = int(faces.size());
+                std::vector<int> face;
+                int v = v0, s = s0;
+                while (faceOf[v][s] < 0) {
+                    faceOf[v][s] = id;
+                    face.push_back(v);
+                    const int u = v;
+                    v = ring[u][s];
+                    const int back = slotOf(v, u);
+                    const int deg = int(ring[v].size());
+                    s = (back + deg - 1) % deg;
+                }
+                faces.push_back(std::move(face));
+            }
+        std::vector<std::pair<int, int>> bridge;
+        for (int v = 0; v < nC; ++v)
+            for (int s = 0; s < int(ring[v].size()); ++s) {
+                const int u = ring[v][s];
+                if (v < u && faceOf[v][s] == faceOf[u][slotOf(u, v)]) bridge.emplace_back(v, u);
+            }
+        if (bridge.empty()) break;
+        for (const auto &[v, u] : bridge) {
+            graph[v].erase(u);
+            graph[u].erase(v);
+            ++bridges;
+        }
+    }
+    result.repairs["dangling_edges_removed"] = dangling;
+    result.repairs["valence2_dissolved"] = dissolved;
+    result.repairs["bridges_removed"] = bridges;
+
+    const int maxSides = field.nSym == 4 ? 6 : 5;
+    int holes = 0, dropped = 0, split = 0;
+    std::vector<std::vector<int>> polygons;
+    std::vector<Vec3> positions = cp;
+    for (const std::vector<int> &face : faces) {
+            // A face through a vertex twice is two loops meeting there: split it.
+            std::vector<std::vector<int>> loops{face};
+            for (size_t k = 0; k < loops.size(); ++k) {
+                for (size_t i = 0; i < loops[k].size(); ++i) {
+                    std::vector<int> &f = loops[k];
+                    const auto again = std::find(f.begin() + long(i) + 1, f.end(), f[i]);
+                    if (again == f.end()) continue;
+                    std::vector<int> sub(f.begin() + long(i), again);
+                    f.erase(f.begin() + long(i), again);
+                    loops.push_back(std::move(sub)); // f is not used after this
+                    ++split;
+                    i = size_t(-1); // rescan what is left
+                }
+            }
+            for (const std::vector<int> &f : loops) {
+                if (f.size() < 3) {
+                    ++dropped;
+                    continue;
+                }
+                if (int(f.size()) <= maxSides) {
+                    polygons.push_back(f);
+                    continue;
+                }
+                // A hole: a fan of triangles around its centroid put on the surface.
+                Vec3 c = Vec3::Zero();
+                for (int x : f) c += cp[x];
+                const int centre = int(positions.size());
+                positions.push_back(tree.closest(c / double(f.size())).point);
+                for (size_t k2 = 0; k2 < f.size(); ++k2) polygons.push_back({centre, f[k2], f[(k2 + 1) % f.size()]});
+                ++holes;
+            }
+        }
+    result.repairs["faces_split"] = split;
+    mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
+    dissolveValence2(polygons, int(positions.size()), result.repairs);
+    relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs);
+    result.repairs["holes_filled"] = holes;
+    result.repairs["faces_dropped"] = dropped;
+
+    // Into OpenMesh; compact away the vertices no polygon uses.
+    std::vector<int> newId(positions.size(), -1);
+    for (const auto &poly : polygons)
+        for (int x : poly)
+            if (newId[x] < 0) newId[x] = 0;
+    for (size_t x = 0; x < positions.size(); ++x)
+        if (newId[x] == 0) {
+            newId[x] = int(result.positions.size());
+            result.positions.push_back(positions[x]);
+        }
+    std::vector<field::PolyMesh::VertexHandle> handles;
+    for (const Vec3 &p : result.positions) handles.push_back(result.poly.add_vertex({p.x(), p.y(), p.z()}));
+    int refused = 0;
+    omerr().disable();
+    for (const auto &poly : polygons) {
+        std::vector<field::PolyMesh::VertexHandle> vh;
+        std::vector<int> ids;
+        for (int x : poly) vh.push_back(handles[newId[x]]), ids.push_back(newId[x]);
+        if (result.poly.add_face(vh).is_valid()) result.polygons.push_back(ids);
+        else ++refused;
+    }
+    omerr().enable();
+    result.repairs["faces_refused_by_openmesh"] = refused;
+    result.timingsMs["extraction"] = msSince(t0);
+    return result;
+}
+
+} // namespace rosy::remesh

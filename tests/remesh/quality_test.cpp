@@ -1,0 +1,143 @@
+/// \file quality_test.cpp
+/// The quality checks (remesh/quality.h) and the closest-point tree on inputs
+/// whose answers are known by construction.
+
+#include "field/field_builder.h"
+#include "field/primitives.h"
+#include "field/singularities.h"
+#include "remesh/aabb_tree.h"
+#include "remesh/quality.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace rosy::remesh {
+namespace {
+
+using field::Mesh;
+
+TEST(AabbTree, ClosestPointMatchesDenseSampling) {
+    const Mesh mesh = field::makeIcosphere(2);
+    const AabbTree tree(mesh);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.6, 1.6);
+    for (int trial = 0; trial < 40; ++trial) {
+        const Vec3 p(u(rng), u(rng), u(rng));
+        const ClosestPoint c = tree.closest(p);
+        // Brute force over a dense barycentric grid of every triangle: an upper bound
+        // on the true distance, at most the grid spacing above it.
+        double best = 1e300;
+        const int k = 24;
+        for (int f = 0; f < mesh.nFaces(); ++f) {
+            const auto &t = mesh.face(f);
+            const Vec3 &a = mesh.position(t[0]), &b = mesh.position(t[1]), &cc = mesh.position(t[2]);
+            for (int i = 0; i <= k; ++i)
+                for (int j = 0; i + j <= k; ++j)
+                    best = std::min(best, (a + (b - a) * (double(i) / k) + (cc - a) * (double(j) / k) - p).norm());
+        }
+        const double d = std::sqrt(c.distance2);
+        EXPECT_LE(d, best + 1e-12);
+        EXPECT_GE(d, best - 0.35 / k); // edges are about 0.3 long
+        EXPECT_NEAR((c.point - p).norm(), d, 1e-12);
+    }
+}
+
+struct Fixture {
+    Mesh mesh = field::makeCube(4);
+    field::TangentFrames frames{mesh};
+    field::RosyField field;
+    field::SingularityReport sing;
+    Fixture() {
+        field.nSym = 4;
+        field.u = Eigen::VectorXcd::Constant(mesh.nVertices(), field::Complex(1, 0));
+    }
+};
+
+// The cube [-1, 1]^3 as six quads, counter-clockwise seen from outside.
+std::vector<Vec3> cubeCorners() {
+    std::vector<Vec3> p;
+    for (int i = 0; i < 8; ++i) p.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+    return p;
+}
+std::vector<std::vector<int>> cubeQuads() {
+    return {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+}
+
+TEST(Quality, CubeOfSixQuadsIsClosedManifoldAndSquare) {
+    Fixture fx;
+    const QualityReport q = measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_TRUE(q.closed);
+    EXPECT_TRUE(q.manifold);
+    EXPECT_TRUE(q.oriented);
+    EXPECT_EQ(q.eulerCharacteristic, 2);
+    EXPECT_EQ(q.inputEulerCharacteristic, 2);
+    EXPECT_EQ(q.vertices, 8);
+    EXPECT_EQ(q.edges, 12);
+    EXPECT_EQ(q.faces, 6);
+    EXPECT_DOUBLE_EQ(q.regularFaceFraction, 1.0);
+    EXPECT_EQ(q.valenceHistogram.at(3), 8);
+    EXPECT_EQ(q.irregularVertices, 8);
+    EXPECT_EQ(q.flippedFaces, 0);
+    EXPECT_EQ(q.degenerateFaces, 0);
+    EXPECT_NEAR(q.angleDevP90Deg, 0.0, 1e-9);
+    EXPECT_NEAR(q.edgeLengthMean, 2.0, 1e-12);
+    EXPECT_NEAR(q.edgeLengthCv, 0.0, 1e-12);
+    EXPECT_NEAR(q.distanceOutToInPct, 0.0, 1e-9);
+    EXPECT_NEAR(q.distanceInToOutPct, 0.0, 1e-9);
+    // the constant field u = 1 is along x in some frames only: alignment is measured, not assumed
+    EXPECT_GE(q.alignmentP90Deg, 0.0);
+}
+
+TEST(Quality, FlippedFaceIsInconsistentAndFlipped) {
+    Fixture fx;
+    auto quads = cubeQuads();
+    std::reverse(quads[2].begin(), quads[2].end());
+    const QualityReport q = measureQuality(cubeCorners(), quads, fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_FALSE(q.oriented);
+    EXPECT_EQ(q.inconsistentEdges, 4);
+    EXPECT_EQ(q.flippedFaces, 1);
+}
+
+TEST(Quality, MissingFaceLeavesABoundary) {
+    Fixture fx;
+    auto quads = cubeQuads();
+    quads.pop_back();
+    const QualityReport q = measureQuality(cubeCorners(), quads, fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_FALSE(q.closed);
+    EXPECT_TRUE(q.manifold);
+    EXPECT_EQ(q.boundaryEdges, 4);
+    EXPECT_EQ(q.eulerCharacteristic, 1);
+    // the missing face's centre is 1 from the nearest output point (a side's centre... at most the half diagonal)
+    EXPECT_GT(q.distanceInToOutPct, 10.0);
+}
+
+TEST(Quality, ThirdFaceOnAnEdgeIsNonManifold) {
+    Fixture fx;
+    auto pts = cubeCorners();
+    pts.emplace_back(0, 0, 0);
+    auto quads = cubeQuads();
+    quads.push_back({0, 1, 8}); // a fin inside the cube on edge 0-1
+    const QualityReport q = measureQuality(pts, quads, fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_FALSE(q.manifold);
+    EXPECT_EQ(q.nonManifoldEdges, 1);
+    EXPECT_EQ(q.facesBySides.at(3), 1);
+    EXPECT_NEAR(q.regularFaceFraction, 6.0 / 7.0, 1e-12);
+}
+
+TEST(Quality, TwoCubesTouchingAtAVertexAreNonManifold) {
+    Fixture fx;
+    auto pts = cubeCorners();
+    auto quads = cubeQuads();
+    // a second cube sharing corner 7 = (1, 1, 1)
+    for (int i = 1; i < 8; ++i) pts.push_back(pts[i] + Vec3(2, 2, 2));
+    auto map = [](int i) { return i == 0 ? 7 : 7 + i; };
+    for (const auto &f : cubeQuads()) quads.push_back({map(f[0]), map(f[1]), map(f[2]), map(f[3])});
+    const QualityReport q = measureQuality(pts, quads, fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_EQ(q.nonManifoldEdges, 0);
+    EXPECT_EQ(q.nonManifoldVertices, 1);
+    EXPECT_FALSE(q.manifold);
+}
+
+} // namespace
+} // namespace rosy::remesh

@@ -1,0 +1,138 @@
+/// \file remesh_test.cpp
+/// The remesher on small procedural surfaces, judged by the independent checks
+/// of remesh/quality.h (and by properties known from the surface: its Euler
+/// characteristic, its size).
+
+#include "field/field_builder.h"
+#include "field/primitives.h"
+#include "field/singularities.h"
+#include "remesh/quality.h"
+#include "remesh/remesh.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+namespace rosy::remesh {
+namespace {
+
+using field::Mesh;
+
+struct Remeshed {
+    RemeshResult result;
+    QualityReport quality;
+    field::SingularityReport singularities;
+};
+
+Remeshed run(const Mesh &mesh, int nSym, double relativeEdge, bool separatrices = true,
+             field::FieldSource source = field::FieldSource::Curvature) {
+    const field::TangentFrames frames(mesh);
+    field::FieldSpec spec;
+    spec.nSym = nSym;
+    spec.source = source;
+    const field::FieldResult fr = field::buildField(frames, spec);
+    Remeshed out;
+    out.singularities = field::findSingularities(frames, fr.field);
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    RemeshOptions opt;
+    opt.edgeLength = relativeEdge * (hi - lo).norm();
+    opt.separatrices = separatrices;
+    out.result = remesh(frames, fr.field, out.singularities, opt);
+    out.quality = measureQuality(out.result.positions, out.result.polygons, frames, fr.field, out.singularities,
+                                 opt.edgeLength);
+    return out;
+}
+
+void expectValidClosed(const QualityReport &q, int chi) {
+    EXPECT_TRUE(q.closed) << q.boundaryEdges << " boundary edges";
+    EXPECT_TRUE(q.manifold) << q.nonManifoldEdges << " edges, " << q.nonManifoldVertices << " vertices";
+    EXPECT_TRUE(q.oriented) << q.inconsistentEdges;
+    EXPECT_EQ(q.eulerCharacteristic, chi);
+    EXPECT_EQ(q.degenerateFaces, 0);
+    EXPECT_EQ(q.flippedFaces, 0);
+    EXPECT_EQ(q.valence2Vertices, 0);
+}
+
+TEST(Remesh, TorusBecomesAlignedQuads) {
+    // Principal directions of a torus run along its two circles: no singularities.
+    // But the outer equator is longer than the inner one by 4πr, so with edges of
+    // one length L a quad mesh must lose about 4πr/L columns on each half of the
+    // tube going inwards: each lost column is one triangle (a dislocation).
+    const double r = 0.45;
+    const Mesh torus = field::makeTorus(1.0, r, 96, 40);
+    const Remeshed r4 = run(torus, 4, 0.03);
+    const QualityReport &q = r4.quality;
+    expectValidClosed(q, 0);
+    EXPECT_EQ(q.singularities, 0);
+    const double dislocations = 2 * 4 * M_PI * r / q.edgeLength;
+    const int triangles = q.facesBySides.count(3) ? q.facesBySides.at(3) : 0;
+    EXPECT_LE(triangles, 1.5 * dislocations);
+    EXPECT_GE(q.regularFaceFraction, 0.85);
+    // The tube (radius 0.45) turns by about 16° per edge of L = 0.126: corners of
+    // these coarse quads are not flat, hence bounds above a few degrees.
+    EXPECT_LE(q.angleDevMedianDeg, 8.0);
+    EXPECT_NEAR(q.edgeLengthMean / q.edgeLength, 1.0, 0.15);
+    EXPECT_LE(q.edgeLengthCv, 0.2);
+    EXPECT_LE(q.alignmentMedianDeg, 6.0);
+    EXPECT_LE(q.distanceOutToInPct, 0.5);
+    EXPECT_LE(q.distanceInToOutPct, 0.5);
+    // polygons and PolyMesh agree
+    EXPECT_EQ(int(r4.result.poly.n_faces()), q.faces);
+    EXPECT_EQ(int(r4.result.poly.n_vertices()), q.vertices);
+}
+
+TEST(Remesh, SphereKeepsEulerCharacteristicAndIrregularVerticesAtSingularities) {
+    // A sphere has no principal directions: the smoothest 4-RoSy field, 8 singularities of +1/4.
+    const Mesh sphere = field::makeIcosphere(4);
+    const Remeshed r = run(sphere, 4, 0.04);
+    const QualityReport &q = r.quality;
+    expectValidClosed(q, 2);
+    EXPECT_GE(q.regularFaceFraction, 0.9);
+    EXPECT_EQ(q.singularities, 8);
+    EXPECT_EQ(q.singularitiesWithIrregularVertex, 8);
+    EXPECT_LE(q.distanceOutToInPct, 1.0);
+    EXPECT_LE(q.distanceInToOutPct, 1.0);
+}
+
+TEST(Remesh, SixRosyGivesTrianglesNearSixtyDegrees) {
+    const Mesh torus = field::makeTorus(1.0, 0.45, 96, 40);
+    const Remeshed r = run(torus, 6, 0.03);
+    const QualityReport &q = r.quality;
+    expectValidClosed(q, 0);
+    EXPECT_GE(q.regularFaceFraction, 0.95);
+    EXPECT_LE(q.angleDevMedianDeg, 6.0);
+    EXPECT_NEAR(q.edgeLengthMean / q.edgeLength, 1.0, 0.15);
+}
+
+TEST(Remesh, SameOutputForAnyThreadCount) {
+    const Mesh mesh = field::makeEllipsoid(4, 1.0, 0.7, 0.5);
+    std::vector<Remeshed> runs;
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        runs.push_back(run(mesh, 4, 0.04));
+    }
+    ASSERT_EQ(runs[0].result.polygons, runs[1].result.polygons);
+    ASSERT_EQ(runs[0].result.positions.size(), runs[1].result.positions.size());
+    for (size_t i = 0; i < runs[0].result.positions.size(); ++i)
+        ASSERT_EQ(runs[0].result.positions[i], runs[1].result.positions[i]) << i;
+}
+
+TEST(Remesh, RejectsOtherSymmetriesAndBadLengths) {
+    const Mesh mesh = field::makeIcosphere(2);
+    const field::TangentFrames frames(mesh);
+    field::RosyField f;
+    f.nSym = 2;
+    f.u = Eigen::VectorXcd::Constant(mesh.nVertices(), field::Complex(1, 0));
+    RemeshOptions opt;
+    opt.edgeLength = 0.1;
+    EXPECT_THROW(remesh(frames, f, {}, opt), InputError);
+    f.nSym = 4;
+    opt.edgeLength = 0;
+    EXPECT_THROW(remesh(frames, f, {}, opt), InputError);
+    opt.edgeLength = 1e-6; // would need billions of vertices
+    opt.maxVertices = 1'000'000;
+    EXPECT_THROW(remesh(frames, f, {}, opt), InputError);
+}
+
+} // namespace
+} // namespace rosy::remesh

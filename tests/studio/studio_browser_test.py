@@ -1,0 +1,177 @@
+#!/usr/bin/python3
+"""End-to-end test of `rosyhatch studio` in a real browser: headless Chromium driven
+by chromium-driver and python3-selenium (Debian packages, installed by
+tools/setup.sh). Opens the page, waits for the mesh, clicks the bunny to add a
+singular element and sees the singularity count change, cancels a pair by clicking
+two singularities, saves, and renders the saved scene with `rosyhatch render`.
+
+  studio_browser_test.py ROSYHATCH DATA_DIR [--screenshot OUT.png] [--mesh MESH]
+
+Exit 77 (ctest: skipped) with a message when Chromium, its driver or selenium is missing.
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SKIP = 77
+
+
+def skip(why):
+    print(f"SKIPPED: {why} (tools/setup.sh installs chromium chromium-driver python3-selenium)")
+    sys.exit(SKIP)
+
+
+def main():
+    args = sys.argv[1:]
+    screenshot = None
+    if "--screenshot" in args:
+        i = args.index("--screenshot")
+        screenshot = args[i + 1]
+        del args[i:i + 2]
+    mesh = None
+    if "--mesh" in args:  # another mesh than bunny00 (timings on big meshes, docs/studio.md)
+        i = args.index("--mesh")
+        mesh = args[i + 1]
+        del args[i:i + 2]
+    rosyhatch, data = args
+    mesh = mesh or f"{data}/meshes/bunny00.off"
+    chromium = shutil.which("chromium")
+    driver_path = shutil.which("chromedriver") or "/usr/bin/chromedriver"
+    if not chromium:
+        skip("chromium is not installed")
+    if not os.path.exists(driver_path):
+        skip("chromedriver (chromium-driver) is not installed")
+    try:
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+        from selenium.webdriver.common.action_chains import ActionChains
+        from selenium.webdriver.common.by import By
+        from selenium.webdriver.support.ui import WebDriverWait
+    except ImportError:
+        skip("python3-selenium is not installed")
+
+    work = tempfile.mkdtemp(prefix="rosy-studio-browser-")
+    scene = os.path.join(work, "bunny.yaml")
+    with open(scene, "w") as f:
+        f.write(f"""# the default scene's view of the bunny
+mesh: {mesh}
+camera:
+  auto: true
+  direction: [-0.35, 0.3, 1.0]
+  fov: 30
+  margin: 0.08
+  resolution: [256, 256]
+lights:
+  - {{type: directional, direction: [-1.0, 0.8, 0.35], intensity: 0.85}}
+style:
+  ambient: 0.08
+output: bunny.png
+""")
+    server = subprocess.Popen([rosyhatch, "studio", scene], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    driver = None
+    try:
+        server.stdout.readline()  # "rosyhatch studio: SCENE"
+        url = server.stdout.readline().strip()
+        assert url.startswith("http://127.0.0.1:") and "token=" in url, url
+
+        options = webdriver.ChromeOptions()
+        for a in ("--headless=new", "--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
+                  "--window-size=1280,800", "--disable-dev-shm-usage"):
+            options.add_argument(a)
+        options.binary_location = chromium
+        driver = webdriver.Chrome(service=Service(executable_path=driver_path), options=options)
+        driver.get(url)
+        wait = WebDriverWait(driver, 60)
+        wait.until(lambda d: d.find_element(By.TAG_NAME, "body").get_attribute("data-loaded"))
+        count = lambda: int(driver.find_element(By.ID, "sing-count").text)
+        n0 = count()
+        print(f"page loaded in {driver.find_element(By.TAG_NAME, 'body').get_attribute('data-loaded')} ms, {n0} singularities")
+        assert n0 > 0
+
+        # A +1 element where the canvas's centre hits the bunny.
+        canvas = driver.find_element(By.ID, "canvas")
+        driver.find_element(By.ID, "mode-plus").click()
+        hits = driver.execute_script("""
+            const c = document.getElementById('canvas'); return [c.clientWidth, c.clientHeight];""")
+        ActionChains(driver).move_to_element(canvas).click().perform()
+        wait.until(lambda d: len(d.execute_script("return window.studio.state().elements")) == 1)
+        n1 = count()
+        print(f"element added at the canvas centre ({hits[0] // 2}, {hits[1] // 2}): {n0} -> {n1} singularities; "
+              f"page: {driver.find_element(By.ID, 'status').text}")
+        assert n1 != n0, "adding a +1 element did not change the singularity count"
+
+        # Drag the element 40 px to the right: it moves there (on the surface).
+        driver.find_element(By.ID, "mode-move").click()
+        el = driver.execute_script("return window.studio.elementsOnScreen()")[0]
+        old = el["position"]
+        w, h = hits
+        (ActionChains(driver).move_to_element_with_offset(canvas, int(el["x"] - w / 2), int(el["y"] - h / 2))
+         .click_and_hold().move_by_offset(20, 0).move_by_offset(20, 0).release().perform())
+        wait.until(lambda d: d.execute_script("return window.studio.state().elements")[0]["position"] != old)
+        moved = driver.execute_script("return window.studio.elementsOnScreen()")[0]
+        print(f"element dragged from ({el['x']:.0f}, {el['y']:.0f}) to ({moved['x']:.0f}, {moved['y']:.0f})")
+        assert abs(moved["x"] - el["x"] - 40) < 3 and abs(moved["y"] - el["y"]) < 3, (el, moved)
+
+        # Cancel the closest visible opposite pair by clicking the two dots.
+        driver.find_element(By.ID, "mode-cancel").click()
+        sings = [s for s in driver.execute_script("return window.studio.singularitiesOnScreen()") if s["visible"]]
+        pos = [s for s in sings if s["index_numerator"] == 1]
+        neg = [s for s in sings if s["index_numerator"] == -1]
+        pairs = sorted(((sum((a["position"][k] - b["position"][k]) ** 2 for k in range(3)), a, b)
+                        for a in pos for b in neg
+                        if (a["x"] - b["x"]) ** 2 + (a["y"] - b["y"]) ** 2 > 12 ** 2), key=lambda t: t[0])
+        assert pairs, "no visible opposite pair to cancel"
+        before = count()
+        for _, a, b in pairs[:5]:
+            for s in (a, b):
+                ActionChains(driver).move_to_element_with_offset(canvas, int(s["x"] - w / 2), int(s["y"] - h / 2)).click().perform()
+            try:
+                WebDriverWait(driver, 20).until(lambda d: count() == before - 2)
+                print(f"cancelled {a['id']} and {b['id']}: {before} -> {count()} singularities; "
+                      f"page: {driver.find_element(By.ID, 'status').text}")
+                break
+            except Exception:
+                print("status:", driver.find_element(By.ID, "status").text)
+        assert count() == before - 2, "no pair was cancelled"
+
+        # Save beside the scene.
+        name = driver.find_element(By.ID, "save-name")
+        name.clear()
+        name.send_keys("saved.yaml")
+        driver.find_element(By.ID, "save").click()
+        wait.until(lambda d: d.find_element(By.ID, "save-result").get_attribute("data-path"))
+        saved = driver.find_element(By.ID, "save-result").get_attribute("data-path")
+        assert saved == os.path.join(work, "saved.yaml"), saved
+        if screenshot:
+            wait.until(lambda d: d.find_element(By.ID, "preview").get_attribute("src"))
+            time.sleep(1.0)
+            driver.set_window_size(1280, 1000)  # room for the preview in the panel
+            time.sleep(1.0)
+            driver.execute_script("document.getElementById('panel').scrollTop = 0")
+            driver.save_screenshot(screenshot)
+        text = open(saved).read()
+        assert "cancel_near" in text and "order: 1" in text and "# the default scene's view" in text, text
+
+        out = os.path.join(work, "saved.png")
+        r = subprocess.run([rosyhatch, "render", saved, "-q", "-o", out], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert os.path.getsize(out) > 1000
+        print("saved scene rendered:", out)
+        return 0
+    finally:
+        if driver:
+            driver.quit()
+        server.terminate()
+        try:
+            server.wait(10)
+        except subprocess.TimeoutExpired:
+            server.kill()
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
