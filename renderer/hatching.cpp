@@ -42,20 +42,6 @@ constexpr double kFillClearance = 0.7;
 /// The hole-filling pass keeps strokes from two d_sep on: a finger or a fold in
 /// shadow has no room for longer ones, and left empty it reads as a light patch.
 constexpr double kFillMinLengthRatio = 2.0;
-/// ... and a line of the hole-filling pass that ends at a wall (silhouette or depth
-/// edge) at both ends from one d_sep on, whatever the style's min_length_px: the eye
-/// of a head or the gap between two fingers in shadow is narrower than four d_sep,
-/// and a few lines across it read as its tone, an empty one as a light hole.
-constexpr double kFillWallToWallRatio = 1.0;
-/// Keep-away disc of a singularity (or group) in cross-hatched tone, in d_sep. Two
-/// dense families hide the field's structure there, and a disc of a full d_sep
-/// cleared of both reads as a light hole in shadow (seam_fraction counted them);
-/// 0.7 d_sep still keeps every line end off the singular point, where the direction
-/// is undefined, and the hole closes below the gap between two lines.
-constexpr double kCrossToneDiscRatio = 0.7;
-/// Pieces of a thinned relabelled line (Hatcher::thinRelabelled) are kept from this
-/// many d_sep: they continue cross-hatching that is already there.
-constexpr double kThinMinLengthRatio = kStubLengthRatio;
 /// Range of tone (target density) over which the ends of each family's strokes are
 /// staggered, centred on its threshold (highlightDensity, crossDensity); the second
 /// family's reaches half of it below crossDensity, where the first family's tone
@@ -258,9 +244,7 @@ struct Disc {
 };
 
 /// Keep-away discs of the visible singularities: radius d_sep at the darkest tone
-/// within d_sep of the singularity's own tone, kCrossToneDiscRatio of that in cross
-/// tone (where overlapping discs also merge, below). `shrink` < 1 gives the measuring
-/// tolerance.
+/// within d_sep of the singularity's own tone. `shrink` < 1 gives the measuring tolerance.
 std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<float> &density,
                                    const styles::HatchStyle &style, double shrink) {
     struct Candidate {
@@ -323,7 +307,6 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
         int members = 0;
         Vec2 centre = Vec2::Zero();
         double radius = 0.0;
-        bool crossTone = false;
     };
     std::vector<Group> groups(cands.size());
     for (size_t k = 0; k < cands.size(); ++k) {
@@ -332,11 +315,10 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
         ++g.members;
         g.centre += cands[k].disc.centre;
         g.radius = std::max(g.radius, cands[k].disc.radius);
-        g.crossTone = g.crossTone || cands[k].crossTone;
     }
     std::vector<Disc> kept;
     for (const Group &g : groups)
-        if (g.members > 0 && std::abs(g.net) > 1e-6) kept.push_back({g.centre / double(g.members), shrink * g.radius * (g.crossTone ? kCrossToneDiscRatio : 1.0)});
+        if (g.members > 0 && std::abs(g.net) > 1e-6) kept.push_back({g.centre / double(g.members), shrink * g.radius});
     return kept;
 }
 
@@ -401,21 +383,17 @@ public:
     /// dark region such a wedge reads as a light crack. Any point of cross tone with no
     /// line of either family within kFillClearance d_sep is seeded along both screen
     /// directions with that clearance (lines still keep d_test from their neighbours).
-    /// `onlyThinned`: seed only near samples that thinRelabelled() removed (the second
-    /// hole pass; elsewhere the first one has already run on the same strokes).
-    void fillHoles(bool onlyThinned = false) {
+    void fillHoles() {
         m_family = 0;
         m_firstFamilyOnly = false;
         m_seedClearance = kFillClearance;
         m_minLengthRatio = kFillMinLengthRatio;
-        m_filling = true;
         const double stride = std::max(1.0, m_style.minSpacingPx);
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
                 const Vec2 q(x, y);
                 const int i = pixelIndex(q);
                 if (i < 0 || singleTone(i)) continue;
-                if (onlyThinned && !m_thinned[size_t(i)]) continue;
                 m_threshold = baseThreshold();
                 if (!eligible(q)) continue;
                 const double r = kFillClearance * spacingAt(i);
@@ -427,16 +405,15 @@ public:
             }
         m_seedClearance = kSeedClearance;
         m_minLengthRatio = kStubLengthRatio;
-        m_filling = false;
     }
 
     /// Layers by direction. In cross tone a first-family line may cross first-family
     /// lines traced before it (where two fronts of the cross field's labels meet); such
     /// a line is cross-hatching, so when most of its samples cross earlier first-family
     /// lines it moves to family 1. Creation order decides, so the result is deterministic.
-    void relabelCrossings(size_t from = 0) {
+    void relabelCrossings() {
         std::vector<uint8_t> moved(m_strokes.size(), 0);
-        for (size_t k = from; k < m_strokes.size(); ++k) {
+        for (size_t k = 0; k < m_strokes.size(); ++k) {
             if (m_strokes[k].family != 0) continue;
             const std::vector<Vec2> &pts = m_strokes[k].points;
             const std::vector<Vec2> &tans = m_tangents[k];
@@ -458,136 +435,7 @@ public:
                 m_strokes[k].family = 1;
             }
         }
-        thinRelabelled(moved);
     }
-
-    /// A relabelled line was traced at the first family's spacing, but it now draws the
-    /// second family, whose spacing is wider in the feather band: where two fronts met,
-    /// such lines lie as close as the first family's and make dark patches with straight
-    /// edges (cross_overdense_fraction). Each relabelled line, in creation order, loses
-    /// its samples within the second family's d_test of a second-family line kept before
-    /// it (the traced ones, then the relabelled lines or pieces already kept), and a
-    /// margin of that d_test along itself so that its pieces do not run on into each
-    /// other; pieces shorter than the tracer's shortest stroke are dropped.
-    void thinRelabelled(const std::vector<uint8_t> &moved) {
-        if (std::find(moved.begin(), moved.end(), uint8_t(1)) == moved.end()) return;
-        SampleGrid kept(m_field.width, m_field.height, std::max(2.0, m_style.minSpacingPx));
-        auto keep = [&](size_t k, size_t b, size_t e) {
-            for (size_t v = b; v < e; ++v) kept.add(Sample{m_strokes[k].points[v], m_tangents[k][v], 0.0, int(k), 1, 0.0});
-        };
-        for (size_t k = 0; k < m_strokes.size(); ++k)
-            if (m_strokes[k].family == 1 && !moved[k]) keep(k, 0, m_strokes[k].points.size());
-        std::vector<uint8_t> cut(m_strokes.size(), 0);
-        std::vector<Stroke> pieces;
-        std::vector<std::vector<Vec2>> pieceTangents;
-        for (size_t k = 0; k < m_strokes.size(); ++k) {
-            if (!moved[k]) continue;
-            const std::vector<Vec2> &pts = m_strokes[k].points;
-            const std::vector<Vec2> &tans = m_tangents[k];
-            const size_t n = pts.size();
-            std::vector<double> r(n, 0.0), arc(n, 0.0);
-            std::vector<uint8_t> close(n, 0);
-            bool anyClose = false;
-            for (size_t v = 0; v < n; ++v) {
-                if (v > 0) arc[v] = arc[v - 1] + (pts[v] - pts[v - 1]).norm();
-                const int i = pixelIndex(pts[v]);
-                if (i < 0) continue;
-                r[v] = kTestRatio * m_spacing[1][size_t(i)];
-                const double rv = r[v];
-                close[v] = kept.any(pts[v], rv, [&](const Sample &sm) {
-                    return std::abs(sm.t.dot(tans[v])) >= kSameFamilyCos && (sm.p - pts[v]).squaredNorm() < rv * rv;
-                });
-                anyClose = anyClose || close[v];
-            }
-            if (!anyClose) {
-                keep(k, 0, n);
-                continue;
-            }
-            cut[k] = 1;
-            if (m_thinned.empty()) m_thinned.assign(m_field.nPixels(), 0);
-            // Where samples go, the second hole pass may seed (within d_sep of them).
-            for (size_t v = 0; v < n; ++v) {
-                if (!close[v]) continue;
-                const int i = pixelIndex(pts[v]);
-                if (i < 0) continue;
-                const int rad = int(std::ceil(m_spacing[0][size_t(i)]));
-                const int cx = int(pts[v].x()), cy = int(pts[v].y());
-                for (int y = std::max(0, cy - rad); y <= std::min(m_field.height - 1, cy + rad); ++y)
-                    for (int x = std::max(0, cx - rad); x <= std::min(m_field.width - 1, cx + rad); ++x)
-                        m_thinned[size_t(m_field.index(x, y))] = 1;
-            }
-            // The margin: samples within half the first family's d_test of a close one
-            // along the line go too, so two pieces end at least that d_test apart.
-            std::vector<uint8_t> drop(close);
-            for (size_t v = 0; v < n; ++v) {
-                if (!close[v]) continue;
-                const int i = pixelIndex(pts[v]);
-                const double margin = 0.5 * kTestRatio * (i < 0 ? m_style.maxSpacingPx : m_spacing[0][size_t(i)]);
-                for (size_t u = v; u-- > 0 && arc[v] - arc[u] < margin;) drop[u] = 1;
-                for (size_t u = v + 1; u < n && arc[u] - arc[v] < margin; ++u) drop[u] = 1;
-            }
-            size_t v = 0;
-            while (v < n) {
-                while (v < n && drop[v]) ++v;
-                const size_t b = v;
-                while (v < n && !drop[v]) ++v;
-                if (v - b < 2) continue;
-                double spacing = 0.0;
-                for (size_t u = b; u < v; ++u) {
-                    const int i = pixelIndex(pts[u]);
-                    spacing += i < 0 ? m_style.maxSpacingPx : m_spacing[0][size_t(i)];
-                }
-                spacing /= double(v - b);
-                if (arc[v - 1] - arc[b] < kThinMinLengthRatio * spacing) continue;
-                keep(k, b, v);
-                Stroke piece = m_strokes[k];
-                piece.points.assign(pts.begin() + long(b), pts.begin() + long(v));
-                pieces.push_back(std::move(piece));
-                pieceTangents.emplace_back(tans.begin() + long(b), tans.begin() + long(v));
-            }
-        }
-        // Pieces take their line's place in the order and keep its id (the seed of
-        // its finish), so every other stroke is drawn exactly as before.
-        std::vector<Stroke> strokes;
-        std::vector<std::vector<Vec2>> tangents;
-        size_t next = 0;
-        for (size_t k = 0; k < m_strokes.size(); ++k) {
-            if (!cut[k]) {
-                strokes.push_back(std::move(m_strokes[k]));
-                tangents.push_back(std::move(m_tangents[k]));
-                continue;
-            }
-            while (next < pieces.size() && pieces[next].id == m_strokes[k].id) {
-                strokes.push_back(std::move(pieces[next]));
-                tangents.push_back(std::move(pieceTangents[next]));
-                ++next;
-            }
-        }
-        m_strokes = std::move(strokes);
-        m_tangents = std::move(tangents);
-    }
-
-    /// After thinning the sample grid still holds the removed samples, under stroke
-    /// indices that have moved: it is built again from the strokes as they are, each
-    /// sample with its stroke's family and that family's d_test at its pixel.
-    void rebuildGrid() {
-        m_grid = SampleGrid(m_field.width, m_field.height, std::max(2.0, m_style.minSpacingPx));
-        for (size_t k = 0; k < m_strokes.size(); ++k) {
-            const Stroke &st = m_strokes[k];
-            double arc = 0.0;
-            for (size_t v = 0; v < st.points.size(); ++v) {
-                if (v > 0) arc += (st.points[v] - st.points[v - 1]).norm();
-                const int i = pixelIndex(st.points[v]);
-                const double r = kTestRatio * (i < 0 ? m_style.maxSpacingPx : m_spacing[st.family == 1][size_t(i)]);
-                m_grid.add(Sample{st.points[v], m_tangents[k][v], arc, int(k), st.family, r});
-            }
-        }
-        m_next = m_strokes.size();
-        m_nBlockers = 0;
-    }
-
-    size_t strokeCount() const { return m_strokes.size(); }
-    bool thinnedAny() const { return !m_thinned.empty(); }
 
     std::vector<Stroke> takeStrokes() { return std::move(m_strokes); }
 
@@ -767,19 +615,12 @@ private:
 
     /// Integrates from p along heading h (RK2 midpoint on the line field), appending
     /// samples with arc lengths sign * (distance from the seed).
-    void extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out, bool *wall = nullptr) {
+    void extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
         const int maxSteps = int(4.0 * (m_field.width + m_field.height) / kMinStepPx);
         double arc = 0;
-        if (wall) *wall = false;
         for (int it = 0; it < maxSteps; ++it) {
             const int ip = pixelIndex(p);
             if (ip < 0) break;
-            if (wall) {
-                // Whether the step ahead leaves the part (silhouette, depth edge): a
-                // line that ends there at both ends spans the whole part.
-                const int ia = pixelIndex(p + 1.5 * h);
-                *wall = ia < 0 || m_blocked[size_t(ia)];
-            }
             const double step = std::clamp(kStepRatio * spacingAt(ip), kMinStepPx, kMaxStepPx);
             Vec2 v1, v2;
             if (!direction(p, h, v1) || v1.dot(h) < kMaxTurnCos) break;
@@ -807,9 +648,8 @@ private:
         Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
         m_grid.add(s0);
         std::vector<Sample> fwd, bwd;
-        bool wallF = false, wallB = false;
-        extend(seed, dir, 1.0, id, fwd, m_filling ? &wallF : nullptr);
-        extend(seed, -dir, -1.0, id, bwd, m_filling ? &wallB : nullptr);
+        extend(seed, dir, 1.0, id, fwd);
+        extend(seed, -dir, -1.0, id, bwd);
         const double length = (fwd.empty() ? 0.0 : fwd.back().arc) - (bwd.empty() ? 0.0 : bwd.back().arc);
         // Shortest stroke kept: the style's minLengthPx, and kStubLengthRatio times its
         // mean d_sep (as measureHatches() takes it), so no dash much shorter than the
@@ -818,10 +658,7 @@ private:
         for (const Sample &s : fwd) meanDTest += s.dTest;
         for (const Sample &s : bwd) meanDTest += s.dTest;
         meanDTest /= double(1 + fwd.size() + bwd.size());
-        // In the hole-filling pass a line that runs from wall to wall (silhouette or
-        // depth edge at both ends) spans its whole part: kept from kFillWallToWallRatio.
-        const double minLength = (m_filling && wallF && wallB) ? kFillWallToWallRatio * meanDTest / kTestRatio
-                                : std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
+        const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.size() > before) m_grid.popBack();
             m_nBlockers = 0; // they may have been among the removed samples
@@ -902,8 +739,6 @@ private:
     int m_nBlockers = 0;
     double m_seedClearance = kSeedClearance;
     double m_minLengthRatio = kStubLengthRatio; // shortest stroke kept, in d_sep
-    bool m_filling = false; // in fillHoles()
-    std::vector<uint8_t> m_thinned; // pixels near samples thinRelabelled() removed (empty: none)
     double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
     uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
     std::vector<Stroke> m_strokes;
@@ -1024,14 +859,6 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
         hatcher.traceFamily(1);
         hatcher.fillHoles();
         hatcher.relabelCrossings();
-        // Thinning the relabelled lines can open holes of its own: fill once more on
-        // the strokes as they now are, and relabel (and thin) what that adds.
-        if (hatcher.thinnedAny()) {
-            hatcher.rebuildGrid();
-            const size_t before = hatcher.strokeCount();
-            hatcher.fillHoles(true);
-            hatcher.relabelCrossings(before);
-        }
         out.strokes = hatcher.takeStrokes();
         // Each stroke's finish depends only on itself and (seed, id): safe in parallel.
         parallelFor(0, int64_t(out.strokes.size()),

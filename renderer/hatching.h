@@ -48,17 +48,17 @@ struct HatchReport {
     /// Unordered pairs of strokes of the same family that come closer than the local
     /// d_test while running within 45° of each other (measured by measureHatches()).
     int minSpacingViolations = 0;
-    /// Strokes that enter the keep-away disc of a visible projected singularity (radius
-    /// d_sep, 0.7 d_sep in cross tone; overlapping discs in cross tone merge).
+    /// Strokes that enter the disc of radius d_sep around a visible projected singularity.
     int strokesNearSingularities = 0;
     /// Stubs: hatch strokes shorter than kStubLengthRatio × their local spacing (the
     /// mean of familySpacingPx over the stroke's vertices), and their share of strokes.
     int stubs = 0;
     double stubFraction = 0.0;
     /// Share of the second family's ink length laid closer to another second-family
-    /// line (within 45°) than that family's own d_test: cross-hatching denser than
-    /// its tone asks for, the dark patches with straight edges that appear where two
-    /// fronts of first-family lines run through each other and are relabelled.
+    /// line (within 45°) than that family's own d_test. Traced second-family lines
+    /// keep that d_test, so this is the relabelled first-family lines (two fronts that
+    /// ran through each other) drawing the cross direction at the first family's
+    /// spacing: denser than the tone asks for inside the feather band.
     double crossOverdenseFraction = 0.0;
 };
 
@@ -129,15 +129,12 @@ double localSpacingPx(double density, const styles::HatchStyle &style);
 /// \param report optional; filled with counts and measureHatches() results.
 /// Strokes also stop at the edge of their tone band, where the line turns by more
 /// than 12° in one step, when they would come within d_test of a same-direction line,
-/// and at the keep-away disc of radius d_sep (at the darkest tone within it; 0.7 of
-/// that in cross tone) around each visible singularity. Strokes shorter than
-/// minLengthPx or than kStubLengthRatio times their mean d_sep (2 in the hole pass,
-/// 1 there for a line that ends at a silhouette or depth edge at both ends) are
-/// dropped. Relabelled crossing lines keep only the pieces that respect the second
-/// family's spacing. Tapers are at most three line widths long. Tracing is
-/// sequential (Jobard–Lefer is order dependent); the output is identical for any
-/// thread count. Stroke ids follow creation order: the first family's pass, the
-/// second's, then the hole pass; pieces keep their line's id.
+/// and at the disc of radius d_sep (at the darkest tone within it) around each
+/// visible singularity. Strokes shorter than minLengthPx or than kStubLengthRatio
+/// times their mean d_sep (2 in the hole pass) are dropped. Tapers are at most
+/// three line widths long. Tracing is sequential (Jobard–Lefer is order
+/// dependent); the output is identical for any thread count. Stroke ids follow
+/// creation order: the first family's pass, the second's, then the hole pass.
 /// Empty image or no valid pixel: an empty list.
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
                         const GBuffer &gbuffer, const styles::HatchStyle &style, uint32_t seed,
@@ -147,8 +144,8 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
 /// length, same-family spacing violations (every stroke vertex against the segments
 /// of other strokes of the same family within 45° of its direction, closer than
 /// (1 − tolerance) d_test at that vertex; `tolerance` absorbs the chord error of
-/// polylines sampled at 0.2 d_sep), strokes whose segments enter a keep-away disc
-/// (shrunk by 1 − tolerance) of a visible singularity of `field`, stubs, and the
+/// polylines sampled at 0.2 d_sep), strokes whose segments enter a disc of radius
+/// (1 − tolerance) d_sep around a visible singularity of `field`, stubs, and the
 /// second family's ink laid closer than its own d_test (crossOverdenseFraction). d_sep
 /// here is the first family's (localSpacingPx with crossWeight), the densest
 /// spacing the tone asks for, whichever layer a stroke ended up in.

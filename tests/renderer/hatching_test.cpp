@@ -303,33 +303,6 @@ TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
     EXPECT_LT(nearest, 2.0 * dSep);
 }
 
-// In cross-hatched tone a lone singularity keeps a smaller disc, 0.7 d_sep: a full
-// d_sep cleared of both families read as a light hole in shadow. Lines still stay off
-// the singular point, and they do come closer than the light-tone disc would allow.
-TEST(Hatching, LoneSingularityInCrossToneKeepsASmallerDisc) {
-    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 192, 192);
-    Scene s(field::makeDisk(24), cam);
-    field::DesignElement e;
-    e.position = field::Vec3(0.05, 0.02, 0);
-    e.order = 1;
-    s.field = field::designField(*s.frames, 4, {e});
-    s.render();
-    styles::HatchStyle st;
-    HatchReport report;
-    const StrokeList list = traceHatches(s.screen, s.uniformDensity(0.8f), s.gbuffer, st, 5, &report);
-    ASSERT_GT(report.strokesFamily1, 5);
-    EXPECT_EQ(report.strokesNearSingularities, 0);
-    EXPECT_EQ(report.minSpacingViolations, 0);
-    const field::SingularityReport sing = field::findSingularities(*s.frames, s.field);
-    ASSERT_FALSE(sing.singularities.empty());
-    // d_sep of the first family at 0.8 (as in the test below), about 3.26 px.
-    const double b = 1.0 - std::sqrt(0.2);
-    const double dSepDark = st.strokeWidthPx / (1.0 - 0.2 / (1.0 - b));
-    const double nearest = nearestStrokeToSingularities(list, sing, cam);
-    EXPECT_GE(nearest, 0.98 * 0.7 * dSepDark);
-    EXPECT_LT(nearest, 0.98 * dSepDark);
-}
-
 // A +1 and a −1 design element a few pixels apart on screen give a pair of
 // singularities whose indices cancel. In cross-hatched tone the pair is below the
 // drawing's scale: hatching runs up to it (a separate keep-away disc for each would
