@@ -4,9 +4,13 @@
 //
 // Targets (issue 7): merge + sort + simplify of 100,000 strokes <= 0.5 s; on the
 // default scene (scenes/bunny.yaml) pen-up travel <= 0.5x the unsorted order.
+// Issue 18: pen-up no worse than greedy + exhaustive 2-opt (bench/plotter_reference.h,
+// what vpype's `linesort --two-opt` describes) on the bunny at 1024² and 4096²
+// (BM_BunnyOrderVsReference, counter ours_vs_reference <= 1).
 // Counters: penup_ratio (pen-up after / before), pendown_change (relative
 // pen-down change), paths (strokes after merging).
 
+#include "bench/plotter_reference.h"
 #include "renderer/illustration.h"
 #include "renderer/plotter.h"
 #include "renderer/svg.h"
@@ -15,7 +19,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <map>
 #include <exception>
 #include <memory>
 #include <random>
@@ -102,32 +109,87 @@ void BM_Stage_100k(benchmark::State &state) {
         std::vector<Stroke> out;
         if (stage == 0) out = removeOverlaps(in, 0.1);
         else if (stage == 1) out = mergeStrokes(in, 0.5);
-        else out = sortStrokes(in, PlotterOptions{});
+        else if (stage == 2) out = sortStrokes(in, PlotterOptions{});
+        else {
+            PlotterOptions greedyOnly;
+            greedyOnly.twoOptMaxPasses = 0;
+            out = sortStrokes(in, greedyOnly);
+        }
         benchmark::DoNotOptimize(out.data());
     }
-    static const char *names[] = {"overlaps", "merge", "sort"};
+    static const char *names[] = {"overlaps", "merge", "sort", "sort, greedy only"};
     state.SetLabel(names[stage]);
 }
-BENCHMARK(BM_Stage_100k)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stage_100k)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
-/// The stroke list of the default scene, rendered once.
-const StrokeList *bunnyStrokes() {
-    static std::unique_ptr<StrokeList> strokes = []() -> std::unique_ptr<StrokeList> {
+/// The stroke list of the default scene at side² px (its own 1024² by default), rendered once per size.
+const StrokeList *bunnyStrokes(int side = 1024) {
+    static std::map<int, std::unique_ptr<StrokeList>> cache;
+    auto &strokes = cache[side];
+    if (!strokes) {
         const std::string path = std::string(ROSY_SOURCE_DIR) + "/scenes/bunny.yaml";
         scenes::SceneDesc desc;
         try {
-            desc = scenes::parseSceneFile(path); // throws when data/meshes/bunny00.off is missing
+            const std::string res = "camera.resolution=[" + std::to_string(side) + ", " + std::to_string(side) + "]";
+            desc = scenes::parseSceneFile(path, {res}); // throws when data/meshes/bunny00.off is missing
         } catch (const std::exception &) {
             return nullptr;
         }
-        return std::make_unique<StrokeList>(std::move(scenes::renderScene(desc).illustration->strokes));
-    }();
+        scenes::PipelineOptions options;
+        options.raster = false; // only the strokes are needed
+        strokes = std::make_unique<StrokeList>(std::move(scenes::renderScene(desc, options).illustration->strokes));
+    }
     return strokes.get();
 }
 
-/// The default scene's SVG (A4, plotter pass on): pen-up ratio against the unsorted order.
+/// Pen-up travel of the default scene's layers (the plotter pass's own order)
+/// against the yardstick of bench/plotter_reference.h (greedy + exhaustive 2-opt,
+/// what vpype's `linesort --two-opt` describes) on the same strokes: each layer
+/// is merged and simplified once, then ordered both ways. Arg: the render's side
+/// in px (1024: the scene's own; 4096 renders for about a minute).
+void BM_BunnyOrderVsReference(benchmark::State &state) {
+    const StrokeList *list = bunnyStrokes(int(state.range(0)));
+    if (!list) {
+        state.SkipWithError("data/meshes/bunny00.off missing: run tools/setup.sh");
+        return;
+    }
+    std::vector<std::vector<Stroke>> layers(4);
+    for (const Stroke &s : list->strokes)
+        layers[s.kind == StrokeKind::Hatch ? size_t(s.family == 1) : s.kind == StrokeKind::Contour ? 2u : 3u].push_back(s);
+    PlotterOptions unsorted;
+    unsorted.sort = false;
+    for (auto &layer : layers) layer = optimizeForPlotter(std::move(layer), unsorted);
+    double ours = 0, reference = 0, greedy = 0, refSeconds = 0;
+    int maxPasses = 0;
+    size_t n = 0;
+    for (auto _ : state) {
+        ours = 0;
+        for (const auto &layer : layers) ours += penUpLength(sortStrokes(layer, PlotterOptions{}));
+    }
+    PlotterOptions greedyOnly;
+    greedyOnly.twoOptMaxPasses = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const auto &layer : layers) {
+        int passes = 0;
+        reference += penUpLength(bench::referenceGreedyTwoOpt(layer, 250, &passes));
+        greedy += penUpLength(sortStrokes(layer, greedyOnly));
+        maxPasses = std::max(maxPasses, passes);
+        n += layer.size();
+    }
+    refSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    state.counters["paths"] = double(n);
+    state.counters["penup_ours_px"] = ours;
+    state.counters["penup_reference_px"] = reference;
+    state.counters["penup_greedy_px"] = greedy;
+    state.counters["ours_vs_reference"] = ours / reference;
+    state.counters["reference_passes"] = maxPasses;
+    state.counters["reference_s"] = refSeconds;
+}
+BENCHMARK(BM_BunnyOrderVsReference)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+/// The default scene's SVG (A4, plotter pass on) at side² px: pen-up ratio against the unsorted order.
 void BM_BunnySvg(benchmark::State &state) {
-    const StrokeList *list = bunnyStrokes();
+    const StrokeList *list = bunnyStrokes(int(state.range(0)));
     if (!list) {
         state.SkipWithError("data/meshes/bunny00.off missing: run tools/setup.sh");
         return;
@@ -147,7 +209,7 @@ void BM_BunnySvg(benchmark::State &state) {
     state.counters["strokes"] = double(list->strokes.size());
     state.counters["overlap_mm"] = report.overlapRemovedMm;
 }
-BENCHMARK(BM_BunnySvg)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BunnySvg)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
 
 } // namespace
 

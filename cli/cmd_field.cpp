@@ -440,7 +440,7 @@ void runField(const FieldOptions &opt) {
 
 void addFieldCommand(CLI::App &app, Action &action) {
     auto opt = std::make_shared<FieldOptions>();
-    CLI::App *sub = app.add_subcommand("field", "Build an N-RoSy field, find its singularities, report and export it");
+    CLI::App *sub = app.add_subcommand("field", "build an N-RoSy field, find its singularities, report and export it");
     sub->add_option("input", opt->input, "Scene (.yaml) or mesh (.obj .ply .off .stl)")->required();
     sub->add_option("-n,--symmetry", opt->symmetry, "Symmetry order N (1..12)")->capture_default_str();
     sub->add_option("--source", opt->source, "curvature | smoothest | design")->capture_default_str();

@@ -141,6 +141,7 @@ void runRender(const RenderOptions &opt) {
     pipeline.load = field::LoadOptions{opt.common.maxFaces};
     pipeline.threads = threads;
     pipeline.measureHatching = !opt.reportPath.empty(); // only the report reads it
+    pipeline.raster = !rasterPaths.empty();            // an SVG alone is written from the strokes
     pipeline.afterLoad = [&](scenes::Scene &scene) {
         // Refuse, before the work, a render that cannot fit in the memory left
         // (scenes::renderMemoryEstimate(); README, "Limits").

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <functional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,6 +49,29 @@ void addDiffCommand(CLI::App &app, Action &action);
 /// single-dash spellings -fail, -failpercent, -hardfail, -warn and -warnpercent to
 /// ours (--fail, ...) before parsing, up to a `--`. Other command lines are untouched.
 void acceptIdiffSpellings(std::vector<std::string> &args);
+
+/// Adds `rosyhatch help [COMMAND] [--man | --bash-completion]` (cmd_help.cpp).
+void addHelpCommand(CLI::App &app, Action &action);
+
+/// The closest of `candidates` to `word` if it is close enough to be a slip (a
+/// prefix, or within a third of its length in edits), else "".
+std::string suggestName(const std::string &word, const std::vector<std::string> &candidates);
+
+/// `rosyhatch --version`: the version, the image I/O module found and the style
+/// preset folders searched.
+std::string versionText();
+
+/// Before parsing: no command at all, or an unknown command word (args[1]): prints
+/// the help or the error with a suggestion on stderr and returns 2; else 0.
+int checkCommandName(const CLI::App &app, const std::vector<std::string> &args);
+
+/// After a parse error: one line per unknown option word in `args` with the
+/// closest option of the command (`did you mean '--threads'?`).
+void suggestOptions(const CLI::App &app, const std::vector<std::string> &args, std::ostream &out);
+
+/// The man page (roff) and the bash completion script, from the same definitions as --help.
+std::string manPage(const CLI::App &app);
+std::string bashCompletion(const CLI::App &app);
 
 /// Thrown by a subcommand whose outcome is not an error but still a nonzero exit
 /// status (diff: 1 warning, 2 failure, 4 file error, as idiff); main() returns `code`

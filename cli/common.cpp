@@ -13,7 +13,7 @@ void addCommonOptions(CLI::App &sub, CommonOptions &options) {
                    "results do not depend on it")
         ->check(CLI::Range(0, 4096));
     sub.add_flag("-q,--quiet", options.quiet, "no progress bars or informational output");
-    sub.add_option("--timings", options.timingsPath, "write per-stage wall-clock seconds as JSON to FILE");
+    sub.add_option("--timings", options.timingsPath, "write per-stage wall-clock times as JSON to FILE: {\"stage\": milliseconds, ..., \"total\": milliseconds}");
     sub.add_option("--max-faces", options.maxFaces,
                    "reject mesh files with more faces than this, before reading them (default 20000000)")
         ->check(CLI::Range(1LL, 2'000'000'000LL));

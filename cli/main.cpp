@@ -26,7 +26,8 @@ int main(int argc, char **argv) {
     rosy::installCleanupSignalHandlers();
     CLI::App app{"rosyhatch: pen-and-ink rendering along N-RoSy fields"};
     app.name("rosyhatch");
-    app.set_version_flag("--version", std::string("rosyhatch ") + ROSY_VERSION);
+    app.set_version_flag("-V,--version", [] { return rosy::cli::versionText(); },
+                         "print the version, the image I/O module and the style preset folders, and exit");
     app.require_subcommand(1);
 
     rosy::cli::Action action;
@@ -37,18 +38,24 @@ int main(int argc, char **argv) {
     rosy::cli::addStylesCommand(app, action);
     rosy::cli::addDiffCommand(app, action);
     rosy::cli::addCompareCommand(app, action);
+    rosy::cli::addHelpCommand(app, action);
     rosy::cli::addStudioCommand(app, action);
     rosy::cli::addRemeshCommand(app, action);
 
     // The command line as strings, with diff's idiff spellings made ours.
     std::vector<std::string> args(argv, argv + argc);
     rosy::cli::acceptIdiffSpellings(args);
+    // No command, or a misspelt one: the help or a suggestion instead of CLI11's
+    // "A subcommand is required".
+    if (args.size() < 2 || (args[1] != "-V" && args[1] != "--version" && args[1] != "-h" && args[1] != "--help"))
+        if (const int code = rosy::cli::checkCommandName(app, args)) return code;
     try {
         std::vector<std::string> reversed(args.rbegin(), args.rend() - 1); // CLI11 takes them reversed, no argv[0]
         app.parse(reversed);
     } catch (const CLI::ParseError &e) {
         // --help and --version arrive here as "successful" parse errors.
         int code = app.exit(e);
+        if (code != 0) rosy::cli::suggestOptions(app, args, std::cerr);
         return code == 0 ? 0 : 2;
     }
 

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <unordered_map>
@@ -46,9 +47,21 @@ struct Lattice {
         const Eigen::Vector2d c = coords(p - o, q, n);
         return o + std::floor(c.x()) * s * q + std::floor(c.y()) * s * second(q, n);
     }
+    /// The lattice point nearest p. Rounding each coordinate is exact for squares;
+    /// for the skewed triangle basis the nearest of the cell's four corners is taken.
     Vec3 roundPoint(const Vec3 &o, const Vec3 &q, const Vec3 &n, const Vec3 &p) const {
         const Eigen::Vector2d c = coords(p - o, q, n);
-        return o + std::round(c.x()) * s * q + std::round(c.y()) * s * second(q, n);
+        const Vec3 b = second(q, n);
+        if (nSym == 4) return o + std::round(c.x()) * s * q + std::round(c.y()) * s * b;
+        const Vec3 base = o + std::floor(c.x()) * s * q + std::floor(c.y()) * s * b;
+        Vec3 best = base;
+        double bestD = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 4; ++k) {
+            const Vec3 x = base + (k & 1) * s * q + (k >> 1) * s * b;
+            const double d = (x - p).squaredNorm();
+            if (d < bestD) bestD = d, best = x;
+        }
+        return best;
     }
     Eigen::Vector2i roundIndex(const Vec3 &d, const Vec3 &q, const Vec3 &n) const {
         const Eigen::Vector2d c = coords(d, q, n);

@@ -29,8 +29,9 @@ Illustration renderIllustration(const IllustrationInput &in) {
     out.worldToCamera = camera.worldToCamera();
     out.worldToNdc = camera.worldToNdc();
     out.ink = in.style.ink;
-    // One bar over the six stages; it only shows on a terminal after about a second.
-    Progress progress("rendering", 6);
+    // One bar over the six stages (five without the raster); it only shows on a
+    // terminal after about a second.
+    Progress progress("rendering", in.raster ? 6 : 5);
     auto t0 = Clock::now();
     auto lap = [&](const char *stage) {
         auto t = Clock::now();
@@ -67,9 +68,11 @@ Illustration renderIllustration(const IllustrationInput &in) {
     out.strokes.height = out.gbuffer.height;
     lap("contours");
 
-    out.layers = rasterizeStrokes(out.strokes);
-    out.composite = compositeInk(out.layers, in.style);
-    lap("raster");
+    if (in.raster) {
+        out.layers = rasterizeStrokes(out.strokes);
+        out.composite = compositeInk(out.layers, in.style);
+        lap("raster");
+    }
     progress.finish();
     return out;
 }

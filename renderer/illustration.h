@@ -42,6 +42,10 @@ struct IllustrationInput {
     /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
     /// singularities; about a sixth of the hatching stage). Off when nobody reads it.
     bool measureHatching = true;
+    /// Draw the strokes into ink layers and the composite (the "raster" stage).
+    /// Off when only vector output (SVG) is written: `layers` and `composite` then
+    /// stay empty and no "raster" timing is recorded.
+    bool raster = true;
 };
 
 struct Illustration {
@@ -49,8 +53,8 @@ struct Illustration {
     std::vector<float> targetDensity; ///< #pixels, ink coverage the tone asks for
     ScreenField screen;
     StrokeList strokes; ///< hatches (in creation order) then contours
-    InkLayers layers;
-    Image composite;    ///< linear RGB + alpha over paper
+    InkLayers layers;   ///< empty when IllustrationInput::raster is off
+    Image composite;    ///< linear RGB + alpha over paper; empty when IllustrationInput::raster is off
     HatchReport hatch;  ///< measured independently of the tracer (measureHatches), if asked
     ContourReport contours;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster

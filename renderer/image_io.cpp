@@ -33,7 +33,11 @@ std::vector<std::string> modulePaths() {
     }
     std::error_code ec;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) paths.push_back((exe.parent_path() / kModuleFileName).string());
+    if (!ec) {
+        paths.push_back((exe.parent_path() / kModuleFileName).string());
+        // Installed (cmake --install): PREFIX/bin/rosyhatch, PREFIX/lib/rosyhatch/the module.
+        paths.push_back((exe.parent_path().parent_path() / "lib" / "rosyhatch" / kModuleFileName).string());
+    }
 #ifdef ROSY_IMAGE_IO_MODULE_PATH
     paths.emplace_back(ROSY_IMAGE_IO_MODULE_PATH);
 #endif
@@ -149,6 +153,14 @@ void checkReadBudget(const std::string &path, const ImageFileHeader &h) {
                              " values, more than the limit of " + std::to_string(kMaxReadValues) + " (" +
                              std::to_string(kMaxReadValues * 4 / (1 << 20)) + " MiB as float)",
                          hint);
+}
+
+std::string imageIoModulePath() {
+    for (const std::string &path : modulePaths()) {
+        std::error_code ec;
+        if (std::filesystem::exists(path, ec)) return path;
+    }
+    return {};
 }
 
 void preloadImageIo() {

@@ -18,7 +18,8 @@
 ///   1. the path in the environment variable ROSY_IMAGE_IO_MODULE (for tests and
 ///      for relocated installs);
 ///   2. next to the running executable (`<dir of /proc/self/exe>/librosy_image_io.so`);
-///   3. where the build put it (ROSY_IMAGE_IO_MODULE_PATH, a path compiled in).
+///   3. where `cmake --install` puts it: `<dir of the executable>/../lib/rosyhatch/`;
+///   4. where the build put it (ROSY_IMAGE_IO_MODULE_PATH, a path compiled in).
 /// Missing or unloadable, imageIo() throws IoError (exit code 3) naming the paths
 /// tried and how to fix it.
 ///
@@ -121,6 +122,10 @@ inline constexpr long long kMaxReadValues = 24LL * 4096LL * 4096LL;
 /// \throws InputError (exit 2) naming `path`, the image's size and the limit when
 ///   the header exceeds the read budget.
 void checkReadBudget(const std::string &path, const ImageFileHeader &header);
+
+/// The first of the module paths above that exists (what imageIo() would try
+/// first), without loading it; empty if none does. For `rosyhatch --version`.
+std::string imageIoModulePath();
 
 /// Starts loading the module on a background thread (once; later calls do
 /// nothing). Optional: imageIo() loads it anyway.

@@ -15,17 +15,25 @@ namespace rosy::renderer {
 
 /// Tolerances and effort limits of the plotter pass. Lengths in raster px.
 struct PlotterOptions {
+    /// Where the pen starts each layer, in raster px: the page origin (svgDocument
+    /// sets it), so the order and the pen-up figure both count the travel from home.
+    Eigen::Vector2d homePx = Eigen::Vector2d::Zero();
     double mergeTolerancePx = 0.5;     ///< strokes whose ends are this close are joined (0 disables)
     double simplifyTolerancePx = 0.25; ///< Ramer–Douglas–Peucker tolerance (0 keeps every point)
     double overlapTolerancePx = 0.1;   ///< ink within this of earlier ink, near-parallel, is dropped (0 disables)
     double overlapMinGapPx = 1.0;      ///< an overlap inside a stroke shorter than this is kept (a pen lift costs more)
-    bool sort = true;                  ///< greedy nearest-neighbour order + 2-opt
-    int twoOptWindow = 32;             ///< 2-opt considers segment reversals of at most this many strokes
-    int twoOptMaxPasses = 3;           ///< sweeps over the order; stops earlier when a sweep finds nothing
+    bool sort = true;                  ///< greedy nearest-neighbour order, then 2-opt and Or-opt
+    int neighbours = 8;                ///< candidate partners per endpoint for 2-opt / Or-opt (nearest endpoints)
+    int twoOptMaxPasses = 50;          ///< looks per stroke, at most (0: greedy only); stops when no move is left
+    bool orOpt = true;                 ///< also move single strokes (either way round) next to a nearer endpoint
+    int exhaustiveTwoOptMax = 3000;    ///< layers of at most this many strokes also try exhaustive 2-opt (O(n²) per sweep)
+    int largeLayer = 20000;            ///< above this many strokes: lighter search (lists only, single-stroke Or-opt, one round)
+    int maxRun = 10000;                ///< a move shifts or reverses at most this many strokes of the order
+    int movesPerStroke = 200;          ///< work bound: entries shifted by reversals and moves, per stroke (min 100k total)
 };
 
 /// What the pass measured, summed over the layers it was given. Lengths in raster px.
-/// Every layer's travel starts at the origin (0, 0), the plotter's home corner.
+/// Every layer's travel starts at PlotterOptions::homePx, the plotter's home.
 struct PlotterReport {
     double penUpPx = 0;         ///< travel between strokes in the optimised order
     double penUpUnsortedPx = 0; ///< travel of the input strokes in their given order and direction
@@ -69,13 +77,20 @@ constexpr double kMaxOverlapAngleDeg = 10.0;
 /// is kept once. The merged stroke takes the kind, family and id of its first stroke.
 std::vector<Stroke> mergeStrokes(std::vector<Stroke> strokes, double tolerancePx);
 
-/// Orders (and reverses) strokes to shorten pen-up travel starting from the
-/// origin: greedy nearest end through a uniform grid, then windowed 2-opt, in
-/// which reversing a run of strokes also reverses each stroke in it.
+/// Orders (and reverses) strokes to shorten pen-up travel starting from
+/// options.homePx: greedy nearest end through a uniform grid, then local search over
+/// the nearest endpoints of each end: 2-opt, in which reversing a run of strokes
+/// (any length) also reverses each stroke in it, and Or-opt, moving one stroke
+/// either way round. Layers of at most exhaustiveTwoOptMax strokes also run
+/// exhaustive first-improvement 2-opt from the greedy tour (then the same local
+/// search) and keep the shorter tour. Each applied move shortens the travel;
+/// work is bounded (twoOptMaxPasses, movesPerStroke). Deterministic.
 std::vector<Stroke> sortStrokes(std::vector<Stroke> strokes, const PlotterOptions &options);
 
-/// Pen-up travel of strokes drawn in the given order and direction, from the origin.
-double penUpLength(const std::vector<Stroke> &strokes);
+/// Pen-up travel of strokes drawn in the given order and direction, from
+/// `homePx` (where the pen starts) to the first stroke and between strokes; the
+/// return home is not counted.
+double penUpLength(const std::vector<Stroke> &strokes, const Eigen::Vector2d &homePx = Eigen::Vector2d::Zero());
 
 /// Sum of polyline lengths.
 double penDownLength(const std::vector<Stroke> &strokes);

@@ -158,6 +158,9 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, Svg
     for (const Stroke &s : list.strokes) layers[size_t(layerOf(s))].push_back(s);
     if (!options.hiddenContours) layers[3].clear();
 
+    // The pen starts every layer at the page origin (the plotter's home, top left):
+    // in raster px that is (−offX, −offY) / scale. Order and pen-up figure both use it.
+    options.plotter.homePx = Eigen::Vector2d(-offX / scale, -offY / scale);
     PlotterReport plot;
     for (auto &layer : layers) {
         if (options.plotterPass) {
@@ -167,8 +170,8 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, Svg
             for (Stroke &s : layer)
                 if (removeDuplicatePoints(s)) clean.push_back(std::move(s));
             layer = std::move(clean);
-            plot.penUpPx += penUpLength(layer);
-            plot.penUpUnsortedPx += penUpLength(layer);
+            plot.penUpPx += penUpLength(layer, options.plotter.homePx);
+            plot.penUpUnsortedPx += penUpLength(layer, options.plotter.homePx);
             plot.penDownPx += penDownLength(layer);
         }
     }
@@ -181,12 +184,14 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, Svg
     out += number(options.pageWidthMm) + "mm\" height=\"" + number(options.pageHeightMm) + "mm\" viewBox=\"0 0 ";
     out += number(options.pageWidthMm) + " " + number(options.pageHeightMm) + "\">\n";
 
-    static const char *kLabels[4] = {"hatch 0", "hatch 1", "contours", "hidden contours"};
     int paths = 0;
     for (size_t l = 0; l < layers.size(); ++l) {
         if (l == 3 && layers[3].empty()) continue;
-        out += "  <g inkscape:groupmode=\"layer\" id=\"layer" + std::to_string(l) + "\" inkscape:label=\"";
-        out += kLabels[l];
+        // The label starts with the layer's number, its only digits: vpype takes the
+        // (first group of) digits of inkscape:label as the layer id, AxiDraw the
+        // leading number; id="layerN" is vpype's own fallback and writing convention.
+        out += "  <g inkscape:groupmode=\"layer\" id=\"layer" + std::to_string(l + 1) + "\" inkscape:label=\"";
+        out += kSvgLayerLabels[l];
         out += "\" fill=\"none\" stroke=\"";
         out += l == 3 ? "#808080" : "#000000";
         out += "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"";

@@ -5,8 +5,9 @@
 /// is fitted into the page inside a margin and centred, aspect preserved.
 /// The document is in millimetres: width/height in mm and a viewBox of the
 /// same numbers, so one user unit is 1 mm and y points down, as in the raster.
-/// Layers are Inkscape layers: "hatch 0", "hatch 1", "contours", and
-/// "hidden contours" (dashed) when the list holds any.
+/// Layers are Inkscape layers labelled with their number first, as vpype and
+/// AxiDraw read them (kSvgLayerLabels): "1 hatch", "2 cross-hatch", "3 contours",
+/// and "4 hidden contours" (dashed) when the list holds any.
 /// Page size, margin, orientation and pen width come from the style's `page`
 /// (styles::PageStyle, svgOptionsFor()); the CLI may override them.
 
@@ -20,6 +21,12 @@
 #include <utility>
 
 namespace rosy::renderer {
+
+/// Inkscape labels of the layers, in document order: hatch family 0, family 1,
+/// contours, hidden contours. Each label's only digits are its leading layer
+/// number (ids layer1..layer4), so vpype (first digits of the label) and AxiDraw
+/// (leading number) give each layer its own pen.
+inline constexpr const char *kSvgLayerLabels[4] = {"1 hatch", "2 cross-hatch", "3 contours", "4 hidden contours"};
 
 struct SvgOptions {
     double pageWidthMm = 210;  ///< A4 portrait by default
@@ -35,7 +42,10 @@ struct SvgOptions {
 
 /// Measurements of the written document, in page millimetres.
 struct SvgReport {
-    double penUpMm = 0;          ///< travel between paths, each layer starting at the picture's top-left corner
+    /// Pen-up travel: from the page origin (0, 0 mm, the plotter's home) to each
+    /// layer's first path and between its paths, summed over the layers; the
+    /// return home is not counted. The one pen-up figure (--report, benchmarks).
+    double penUpMm = 0;
     double penUpUnsortedMm = 0;  ///< the same for the input order
     double penDownMm = 0;        ///< drawn length
     double penUpRatioVsUnsorted = 1; ///< penUpMm / penUpUnsortedMm (1 when the input has no travel)

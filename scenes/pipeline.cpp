@@ -63,7 +63,7 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
 
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    bool measureHatching) {
+                                    bool measureHatching, bool raster) {
     const Scene &scene = *loaded.scene;
     renderer::IllustrationInput in;
     in.mesh = &scene.mesh;
@@ -76,6 +76,7 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
     in.shading = scene.shading;
     in.style = scene.style;
     in.measureHatching = measureHatching;
+    in.raster = raster;
     return renderer::renderIllustration(in);
 }
 
@@ -104,7 +105,8 @@ RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options) 
     }
     out.rays = timed("bvh", &out.timingsMs, options,
                      [&] { return std::make_unique<renderer::RayScene>(out.loaded.scene->mesh); });
-    out.illustration = drawHatching(out.loaded, rosyField, singularities, *out.rays, options.measureHatching);
+    out.illustration = drawHatching(out.loaded, rosyField, singularities, *out.rays, options.measureHatching,
+                                     options.raster);
     for (const auto &[stage, ms] : out.illustration->timingsMs) {
         out.timingsMs.emplace_back(stage, ms);
         if (options.onStage) options.onStage(stage, ms);

@@ -60,6 +60,10 @@ struct PipelineOptions {
     /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
     /// singularities; about a sixth of the hatching stage). Only reports read it.
     bool measureHatching = true;
+    /// Draw the strokes into ink layers and the composite image (IllustrationInput::raster).
+    /// Off when the only outputs are vectors (SVG): the illustration's `layers` and
+    /// `composite` stay empty.
+    bool raster = true;
 };
 
 /// Limits oneTBB's worker threads while it lives: `threads` when set, else the
@@ -128,7 +132,7 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
 /// built from loaded.scene->mesh.
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    bool measureHatching = true);
+                                    bool measureHatching = true, bool raster = true);
 
 /// The whole pipeline: buildSceneField(desc), then the scene's picture — the
 /// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the

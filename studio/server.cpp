@@ -7,6 +7,8 @@
 
 #include <httplib.h>
 
+#include <sys/socket.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -108,6 +110,14 @@ StudioServer::StudioServer(Studio &studio, ServerOptions options)
 
     httplib::Server &srv = m_impl->server;
     srv.set_payload_max_length(m_options.maxBodyBytes);
+    // httplib's default sets SO_REUSEPORT, which lets another process of the same user
+    // bind the same port and take part of the connections (and a second studio on a
+    // taken --port start silently). SO_REUSEADDR alone only allows a restart while
+    // old connections linger in TIME_WAIT.
+    srv.set_socket_options([](socket_t sock) {
+        int yes = 1;
+        setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
     srv.set_read_timeout(10, 0);
     srv.set_write_timeout(10, 0);
     srv.set_keep_alive_max_count(1000);

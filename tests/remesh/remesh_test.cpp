@@ -104,6 +104,17 @@ TEST(Remesh, SixRosyGivesTrianglesNearSixtyDegrees) {
     EXPECT_NEAR(q.edgeLengthMean / q.edgeLength, 1.0, 0.15);
 }
 
+TEST(Remesh, SixRosySphereIsClosedWithTwelveSingularities) {
+    // The smoothest 6-RoSy field on a sphere: 12 singularities of +1/6 (χ = 2).
+    const Mesh sphere = field::makeIcosphere(4);
+    const Remeshed r = run(sphere, 6, 0.05, false, field::FieldSource::Smoothest);
+    const QualityReport &q = r.quality;
+    EXPECT_EQ(q.singularities, 12);
+    expectValidClosed(q, 2);
+    EXPECT_GE(q.regularFaceFraction, 0.95);
+    EXPECT_LE(q.angleDevMedianDeg, 6.0);
+}
+
 TEST(Remesh, SameOutputForAnyThreadCount) {
     const Mesh mesh = field::makeEllipsoid(4, 1.0, 0.7, 0.5);
     std::vector<Remeshed> runs;

@@ -1,3 +1,4 @@
+#include "bench/plotter_reference.h"
 #include "renderer/plotter.h"
 #include "renderer/svg.h"
 
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <sstream>
 
 using namespace rosy::renderer;
@@ -174,14 +176,101 @@ TEST(Svg, A4PageHasMillimetreSizeAndLayers) {
     EXPECT_NEAR(report.mmPerPx, 277.0 / 200, 1e-12);
     const auto counts = pathsPerLayer(els);
     EXPECT_EQ(counts.size(), 3u); // no hidden contours, no hidden layer
-    EXPECT_EQ(counts.at("hatch 0"), 2);
-    EXPECT_EQ(counts.at("hatch 1"), 1);
-    EXPECT_EQ(counts.at("contours"), 1);
+    EXPECT_EQ(counts.at("1 hatch"), 2);
+    EXPECT_EQ(counts.at("2 cross-hatch"), 1);
+    EXPECT_EQ(counts.at("3 contours"), 1);
     EXPECT_EQ(report.paths, 4);
     for (const Element &e : els)
         if (e.name == "g") {
             EXPECT_EQ(e.attrs.at("inkscape:groupmode"), "layer");
         }
+}
+
+namespace {
+
+/// How a plotter tool numbers the layers of an SVG, as its documentation states
+/// (written for this test, not taken from those tools):
+///  - vpype `read` (help text and issue abey79/vpype#594): each top-level <g> is a
+///    layer; its id is the number made of the digits of `inkscape:label` — all of
+///    them up to 1.12 (`VpypeAllDigits`), the first run of digits from 1.13
+///    (`VpypeFirstDigits`) —, else of the `id` attribute, else the group's order of
+///    appearance; 0 becomes 1.
+///  - AxiDraw layer control (EMSL wiki, "Syntax"): the label's leading integer after
+///    leading whitespace; a label without one is not a numbered layer (-1 here).
+enum class LayerRule { VpypeAllDigits, VpypeFirstDigits, AxiDraw };
+
+std::vector<std::pair<std::string, long>> layerIds(const std::vector<Element> &els, LayerRule rule) {
+    const auto digits = [&](const std::string &text) -> long {
+        std::string d;
+        for (size_t i = 0; i < text.size(); ++i) {
+            if (std::isdigit(static_cast<unsigned char>(text[i]))) d += text[i];
+            else if (!d.empty() && rule == LayerRule::VpypeFirstDigits) break;
+        }
+        if (d.empty()) return -1;
+        const long v = std::stol(d);
+        return v == 0 ? 1 : v;
+    };
+    std::vector<std::pair<std::string, long>> out;
+    long order = 0;
+    for (const Element &e : els) {
+        if (e.name != "g" || !e.layer.empty()) continue; // top-level groups only
+        ++order;
+        const std::string label = e.attrs.count("inkscape:label") ? e.attrs.at("inkscape:label") : "";
+        long id = -1;
+        if (rule == LayerRule::AxiDraw) {
+            size_t i = label.find_first_not_of(" \t");
+            size_t j = i;
+            while (j < label.size() && std::isdigit(static_cast<unsigned char>(label[j]))) ++j;
+            if (i != std::string::npos && j > i) id = std::stol(label.substr(i, j - i));
+        } else {
+            id = digits(label);
+            if (id < 0 && e.attrs.count("id")) id = digits(e.attrs.at("id"));
+            if (id < 0) id = order;
+        }
+        out.push_back({label, id});
+    }
+    return out;
+}
+
+} // namespace
+
+TEST(Svg, LayersGetDistinctIdsUnderVpypeAndAxiDrawRules) {
+    StrokeList list;
+    list.width = list.height = 100;
+    list.strokes.push_back(line({10, 10}, {50, 10}, 1, StrokeKind::Hatch, 0));
+    list.strokes.push_back(line({10, 20}, {10, 60}, 1, StrokeKind::Hatch, 1));
+    list.strokes.push_back(line({60, 20}, {90, 60}, 1, StrokeKind::Contour));
+    list.strokes.push_back(line({60, 70}, {90, 90}, 1, StrokeKind::HiddenContour));
+    const auto els = parseOrFail(svgDocument(list, SvgOptions{}));
+    // One stroke of each family: each layer holds one path.
+    for (const auto &[label, n] : pathsPerLayer(els)) EXPECT_EQ(n, 1) << label;
+    for (const LayerRule rule : {LayerRule::VpypeAllDigits, LayerRule::VpypeFirstDigits, LayerRule::AxiDraw}) {
+        const auto ids = layerIds(els, rule);
+        ASSERT_EQ(ids.size(), 4u) << int(rule);
+        // Hatch family 0, family 1, contours, hidden contours: pens 1, 2, 3, 4, in that order.
+        for (size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(ids[k].second, long(k) + 1) << int(rule) << " " << ids[k].first;
+    }
+    // The same reader on the old labels ("hatch 0", "hatch 1", "contours") merges
+    // the two hatch families into vpype's layer 1 (the bug of issue 18): it can fail.
+    std::vector<Element> old;
+    for (const char *label : {"hatch 0", "hatch 1", "contours"}) {
+        Element g;
+        g.name = "g";
+        g.attrs["inkscape:label"] = label;
+        g.attrs["id"] = "layer";
+        old.push_back(g);
+    }
+    const auto oldIds = layerIds(old, LayerRule::VpypeFirstDigits);
+    EXPECT_EQ(oldIds[0].second, oldIds[1].second);
+    EXPECT_EQ(layerIds(old, LayerRule::AxiDraw)[0].second, -1);
+    // Every group is an Inkscape layer with a unique id.
+    std::set<std::string> idAttrs;
+    for (const Element &e : els)
+        if (e.name == "g") {
+            EXPECT_EQ(e.attrs.at("inkscape:groupmode"), "layer");
+            EXPECT_TRUE(idAttrs.insert(e.attrs.at("id")).second);
+        }
+    EXPECT_EQ(idAttrs, (std::set<std::string>{"layer1", "layer2", "layer3", "layer4"}));
 }
 
 TEST(Svg, KnownStrokeLandsAtExpectedMillimetres) {
@@ -215,10 +304,10 @@ TEST(Svg, HiddenContoursGetADashedLayer) {
     const auto els = parseOrFail(svgDocument(list, SvgOptions{}));
     bool dashed = false;
     for (const Element &e : els)
-        if (e.name == "g" && e.attrs.at("inkscape:label") == "hidden contours")
+        if (e.name == "g" && e.attrs.at("inkscape:label") == "4 hidden contours")
             dashed = e.attrs.count("stroke-dasharray") == 1;
     EXPECT_TRUE(dashed);
-    EXPECT_EQ(pathsPerLayer(els).at("hidden contours"), 1);
+    EXPECT_EQ(pathsPerLayer(els).at("4 hidden contours"), 1);
 }
 
 TEST(Svg, LongPathsAreSplitBelow32000Vertices) {
@@ -355,6 +444,101 @@ TEST(Plotter, TwoOptFixesACrossedTour) {
     EXPECT_NEAR(penUpLength(out), 3.0, 1e-12);
 }
 
+TEST(Plotter, OrderIsNoWorseThanGreedyPlusExhaustiveTwoOpt) {
+    // The yardstick (bench/plotter_reference.h) is the textbook greedy + full
+    // 2-opt that vpype's `linesort --two-opt` describes, by brute force. Three
+    // kinds of input: random short strokes, shuffled parallel hatch lines with
+    // gaps (a hatched region), and clusters far apart (long jumps to place well).
+    std::mt19937 rng(17);
+    std::vector<std::vector<Stroke>> sets;
+    sets.push_back(randomShortStrokes(400, 1000, 23));
+    std::vector<Stroke> hatch;
+    for (int row = 0; row < 40; ++row)
+        for (int piece = 0; piece < 8; ++piece) {
+            const double x0 = piece * 30 + (row % 3) * 4, y = 5.0 * row + 0.3 * piece;
+            hatch.push_back(line({x0, y}, {x0 + 22, y + 3}));
+        }
+    std::shuffle(hatch.begin(), hatch.end(), rng);
+    sets.push_back(hatch);
+    std::vector<Stroke> clusters;
+    for (const auto &[cx, cy] : {std::pair{100.0, 900.0}, {900.0, 100.0}, {500.0, 500.0}, {950.0, 950.0}})
+        for (Stroke s : randomShortStrokes(80, 60, uint32_t(cx + cy))) {
+            for (auto &p : s.points) p += Eigen::Vector2d(cx, cy);
+            clusters.push_back(s);
+        }
+    std::shuffle(clusters.begin(), clusters.end(), rng);
+    sets.push_back(clusters);
+    PlotterOptions opt;
+    for (size_t k = 0; k < sets.size(); ++k) {
+        const double ours = penUpLength(sortStrokes(sets[k], opt));
+        int passes = 0;
+        const double reference = penUpLength(rosy::bench::referenceGreedyTwoOpt(sets[k], 250, &passes));
+        opt.twoOptMaxPasses = 0; // greedy alone, for scale
+        const double greedy = penUpLength(sortStrokes(sets[k], opt));
+        opt.twoOptMaxPasses = PlotterOptions{}.twoOptMaxPasses;
+        std::printf("set %zu: %zu strokes, pen-up greedy %.1f, greedy+2-opt reference %.1f (%d passes), "
+                    "ours %.1f px (%.3fx the reference)\n",
+                    k, sets[k].size(), greedy, reference, passes, ours, ours / reference);
+        EXPECT_LE(ours, reference * (1 + 1e-9)) << "set " << k;
+        EXPECT_LT(ours, greedy) << "set " << k;
+        // Every stroke drawn once: same pen-down, same count.
+        EXPECT_NEAR(penDownLength(sortStrokes(sets[k], opt)), penDownLength(sets[k]), 1e-6);
+    }
+}
+
+TEST(Plotter, SortedOrderIsTwoOptOptimal) {
+    // The 29 contour paths of the default scene at 4096² (endpoints as drawn):
+    // after the sort no single 2-opt move (reversing a run, each stroke turned)
+    // may shorten the travel, checked here by brute force over every pair.
+    std::vector<Stroke> in{
+        line({1589.9096432073575, 3267.1869382905734}, {1589.4742782973767, 3270.0540355855132}),
+        line({1588.89386660082, 3273.8763390532467}, {984.79204120090867, 2866.3468197763027}),
+        line({985.69877211186622, 2867.371238883713}, {988.53992851718954, 2871.9774726959272}),
+        line({987.15341461768264, 2870.1953359872909}, {862.9783712915023, 2283.985631500158}),
+        line({836.44016302164619, 2236.0425885586965}, {786.47680445863966, 1742.7967706859131}),
+        line({788.74159491672413, 1757.9502669757594}, {957.6067726979993, 1381.4780119128586}),
+        line({951.75484554376931, 1385.6546144086078}, {952.83463528312609, 1353.4410503622701}),
+        line({943.39649174601595, 1388.5970416584812}, {925.99194807337346, 1345.4706989312799}),
+        line({926.36773011786306, 1346.7862150112576}, {925.5809432242487, 1346.8940703659803}),
+        line({924.71599322608779, 1345.9685609237179}, {917.6694544378588, 1317.7503303383151}),
+        line({916.8105677165795, 1321.7918451165554}, {912.81527498565254, 1295.691069879505}),
+        line({912.8879687225392, 1296.7933943575965}, {912.1813050410401, 1277.8696899283373}),
+        line({948.70564174266065, 1343.7220089961706}, {1195.3776359951453, 1340.6952658141354}),
+        line({1178.8261511524588, 1338.5324676543914}, {1642.2946396089935, 1792.8015446314241}),
+        line({1640.004011638724, 1789.6390268300959}, {1641.5600354542157, 1790.9596322327739}),
+        line({1638.4739585081968, 1786.4665849625128}, {3114.1518871302715, 3077.8373573068516}),
+        line({3116.3933771302482, 3073.8822020691582}, {3131.350864526552, 3044.2144129755634}),
+        line({3195.0648311440605, 2786.4582007053723}, {3197.5963698239907, 2767.20452478984}),
+        line({3198.0363919941901, 2762.4634332467931}, {3198.3000051177642, 2759.623090110782}),
+        line({3213.116158233036, 2592.3488919887518}, {3006.5208019111997, 3264.2097063906836}),
+        line({3049.231303724283, 3185.3493694974541}, {1474.5439918430748, 3425.5043612260361}),
+        line({1384.4644349075681, 3532.837549400831}, {1214.3710910950604, 3278.4854099335589}),
+        line({1206.5160634738279, 3285.5532496842043}, {1388.0814899387951, 3116.5760036011025}),
+        line({1457.6002297346449, 2237.7508696293057}, {821.96379992438119, 2178.5962497488786}),
+        line({1456.3616724088367, 2240.1489429671037}, {1454.0864257116059, 2243.4981475329641}),
+        line({1539.2361573368291, 1617.8108130454596}, {1545.2376164186535, 1640.557162253675}),
+        line({1544.5503989461563, 1637.4289199607927}, {1494.1605961643086, 1415.7708975450046}),
+        line({1495.7481788621585, 1417.4379774737786}, {1504.2764329952429, 1429.7466267478112}),
+        line({2970.1593927849381, 3222.8031708169528}, {2970.1593927849381, 3222.8031708169528})};
+    const std::vector<Stroke> out = sortStrokes(in, PlotterOptions{});
+    const double travel = penUpLength(out);
+    const int n = int(out.size());
+    double bestGain = 0;
+    for (int b1 = 0; b1 < n; ++b1)
+        for (int b2 = b1 + 1; b2 <= n; ++b2) {
+            std::vector<Stroke> t = out;
+            std::reverse(t.begin() + b1, t.begin() + b2);
+            for (int p = b1; p < b2; ++p) std::reverse(t[size_t(p)].points.begin(), t[size_t(p)].points.end());
+            bestGain = std::max(bestGain, travel - penUpLength(t));
+        }
+    EXPECT_LT(bestGain, 1e-6);
+    const double reference = penUpLength(rosy::bench::referenceGreedyTwoOpt(in));
+    PlotterOptions g;
+    g.twoOptMaxPasses = 0;
+    std::printf("ours %.1f, reference %.1f px, greedy %.1f\n", travel, reference, penUpLength(sortStrokes(in, g)));
+    EXPECT_LE(travel, reference * (1 + 1e-9));
+}
+
 // --- page from the style ------------------------------------------------------
 
 TEST(Svg, PageComesFromTheStyleAndTurnsForAWidePicture) {
@@ -420,8 +604,8 @@ TEST(Svg, HiddenContourLayerIsOptional) {
     SvgOptions opt;
     opt.hiddenContours = false;
     const auto counts = pathsPerLayer(parseOrFail(svgDocument(list, opt)));
-    EXPECT_EQ(counts.count("hidden contours"), 0u);
-    EXPECT_EQ(counts.at("contours"), 1);
+    EXPECT_EQ(counts.count("4 hidden contours"), 0u);
+    EXPECT_EQ(counts.at("3 contours"), 1);
 }
 
 // --- collinear overlaps -----------------------------------------------------------

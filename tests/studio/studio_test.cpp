@@ -16,10 +16,12 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/time.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -503,6 +505,69 @@ TEST_F(Studio, ConcurrentRequestsSeeOneField) {
     EXPECT_EQ(failed.load(), 0);
     EXPECT_EQ(ok.load(), 12);
     EXPECT_EQ(state()["elements"].size(), 12u);
+}
+
+} // namespace
+
+namespace {
+
+/// Exit code of `command`, stopped after 60 s (a studio that starts when it should
+/// not would serve forever: 124 then).
+int runExit(const std::string &command) {
+    const int status = std::system(("timeout 60 " + command).c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(StudioCli, ExitCodesAndTheUrlItServes) {
+    const std::string exe = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
+    const fs::path dir = fs::temp_directory_path() / ("rosy-studio-cli-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path err = dir / "err.txt";
+    // A missing scene is an I/O error, a broken one rejected input.
+    EXPECT_EQ(runExit(exe + " studio " + (dir / "none.yaml").string() + " 2> " + err.string()), 3);
+    std::ofstream(dir / "bad.yaml") << "mesh: [unclosed\n";
+    EXPECT_EQ(runExit(exe + " studio " + (dir / "bad.yaml").string() + " 2> " + err.string()), 2);
+    EXPECT_NE(slurp(err).find("bad.yaml:"), std::string::npos) << slurp(err);
+    EXPECT_EQ(runExit(exe + " studio " + (dir / "bad.yaml").string() + " --port 70000 2> " + err.string()), 2);
+    // A port already taken: exit 3 naming it.
+    const fs::path scene = dir / "head.yaml";
+    std::ofstream(scene) << "mesh: " << kHead << "\n";
+    rosy::studio::Studio st(scene.string());
+    rosy::studio::StudioServer taken(st, {});
+    const int port = taken.bind();
+    EXPECT_EQ(runExit(exe + " studio " + scene.string() + " --port " + std::to_string(port) + " 2> " + err.string()), 3);
+    EXPECT_NE(slurp(err).find("cannot listen"), std::string::npos) << slurp(err);
+    // Started for real: it prints the URL, which serves the state with its token.
+    // The child is stopped (SIGTERM) and reaped however the test ends.
+    struct Child {
+        FILE *out = nullptr;
+        int pid = -1;
+        ~Child() {
+            if (pid > 0) kill(pid, SIGTERM);
+            if (out) pclose(out);
+        }
+    } child;
+    child.out = popen(("echo $$; exec " + exe + " studio " + scene.string() + " 2>/dev/null").c_str(), "r");
+    ASSERT_NE(child.out, nullptr);
+    char line[512];
+    std::vector<std::string> lines;
+    if (fgets(line, sizeof line, child.out)) {
+        lines.emplace_back(line);
+        child.pid = std::stoi(lines[0]);
+    }
+    while (lines.size() < 3 && fgets(line, sizeof line, child.out)) lines.emplace_back(line);
+    ASSERT_EQ(lines.size(), 3u);
+    const std::string url = lines[2].substr(0, lines[2].find('\n'));
+    ASSERT_EQ(url.rfind("http://127.0.0.1:", 0), 0u) << url;
+    const int served = std::stoi(url.substr(17));
+    const std::string token = url.substr(url.find("token=") + 6);
+    EXPECT_EQ(token.size(), 32u);
+    httplib::Client c("127.0.0.1", served);
+    auto r = c.Get("/api/state?token=" + token);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(c.Get("/api/state")->status, 403);
+    fs::remove_all(dir);
 }
 
 } // namespace
