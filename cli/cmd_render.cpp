@@ -17,6 +17,7 @@
 #include "renderer/image_io.h"
 #include "renderer/svg.h"
 #include "scenes/pipeline.h"
+#include "scenes/print_units.h"
 #include "scenes/scene.h"
 
 #include <algorithm>
@@ -121,6 +122,15 @@ void runRender(const RenderOptions &opt) {
     if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !opt.reportPath.empty())
         throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
                          "drop --report, or set picture.kind: hatching");
+    // Print mode (an SVG, or --paper): lengths in mm on the page, traced at the
+    // resolution that serves them; the scene's own when a raster is written too.
+    std::optional<scenes::PrintSetup> print;
+    if (desc.picture.kind.value != scenes::PictureDesc::Kind::Field && (!svgPaths.empty() || !opt.paper.empty())) {
+        print = scenes::applyPrintUnits(desc, !rasterPaths.empty());
+        for (const std::string &w : print->warnings) warn(opt.scenePath, "print", w);
+        svgOptions.penWidthMm = print->lengths.penWidthMm; // one pen: every path this wide
+        svgOptions.plotter = print->plotter;
+    }
     // Fail on any unwritable destination before spending time on the render: then
     // nothing at all is written.
     for (const std::string &o : outputs) checkWritable(o);
@@ -210,6 +220,11 @@ void runRender(const RenderOptions &opt) {
             json.field("overlap_removed_mm", svgReport->overlapRemovedMm);
             json.field("page_mm", (std::ostringstream() << svgReport->pageWidthMm << "x" << svgReport->pageHeightMm).str());
         }
+        if (print) {
+            json.field("pen_width_mm", print->lengths.penWidthMm);
+            json.field("min_spacing_mm", print->lengths.minSpacingMm);
+            json.field("mm_per_px", print->mmPerPx);
+        }
         json.key("warnings").beginObject();
         for (const auto &[kind, count] : warningCounts()) json.field(kind, count);
         json.endObject();
@@ -234,15 +249,16 @@ void addRenderCommand(CLI::App &app, Action &action) {
         ->allow_extra_args(false);
     sub->add_option("--svg", opt->svgPath, "also write the layered SVG of the same render (next to a raster -o)");
     sub->add_option("--paper", opt->paper,
-                    "SVG page size: a4, a3, letter, or WIDTHxHEIGHT in mm (default: the style's page.size, a4)");
+                    "page size: a4, a3, letter, or WIDTHxHEIGHT in mm (default: the style's page.size, a4); "
+                    "also turns on print mode (lengths in mm on the page) for raster outputs");
     sub->add_option("--margin-mm", opt->marginMm,
                     "SVG page margin in mm (default: the style's page.margin_mm, 10); the picture is fitted inside");
     sub->add_option("--orientation", opt->orientation,
                     "SVG page orientation: auto (turn the page if the picture gets larger), portrait, landscape "
                     "(default: the style's page.orientation, auto)");
     sub->add_option("--pen-mm", opt->penMm,
-                    "SVG: draw every path with this pen width in mm (default: the style's page.pen_width_mm; "
-                    "0 = each stroke's own width scaled to the page)");
+                    "print: the pen width in mm, every path this wide (default: the style's page.pen_width_mm; "
+                    "0 = hatch.stroke_width_px x page.px_mm)");
     sub->add_flag("--no-plotter", opt->noPlotter,
                   "SVG: skip the plotter pass (merging strokes whose ends meet within 0.5 px, "
                   "simplifying within 0.25 px, ordering to cut pen-up travel)");

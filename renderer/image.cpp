@@ -3,6 +3,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "renderer/image_io.h"
 #include "renderer/large_buffer.h"
 
@@ -184,6 +185,8 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
     }
 
     const ImageIo &io = imageIo(); // before the temporary exists: a missing module leaves nothing behind
+    // A large EXR takes seconds to compress: say what is being written (terminal only, after a second).
+    Progress progress("writing", {{std::filesystem::path(path).filename().string(), 1.0}});
     writeAtomically(path, [&](const std::string &tmpPath) {
         std::string error;
         const bool ok = sixteenBit ? io.write(tmpPath, spec, PixelType::UInt16, words.data(), error)

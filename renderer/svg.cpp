@@ -130,6 +130,28 @@ std::pair<double, double> orientedPage(double widthMm, double heightMm, styles::
     return {widthMm, heightMm};
 }
 
+double pictureMmPerPx(const SvgOptions &o, int w, int h) {
+    if (w <= 0 || h <= 0) throw InputError(FileLoc{}, "SVG: picture has no size", "render at a positive resolution");
+    const auto [pw, ph] = orientedPage(o.pageWidthMm, o.pageHeightMm, o.orientation, o.marginMm, w, h);
+    const double availW = pw - 2 * o.marginMm, availH = ph - 2 * o.marginMm;
+    if (!(availW > 0) || !(availH > 0))
+        throw InputError(FileLoc{}, "SVG: margin of " + number(o.marginMm) + " mm leaves no room on a " + number(pw) +
+                                        "x" + number(ph) + " mm page",
+                         "use a smaller margin or a larger paper size");
+    return std::min(availW / w, availH / h);
+}
+
+std::pair<int, int> printResolution(const SvgOptions &o, int w, int h, double pxMm, int maxSide, bool *capped) {
+    const double scale = pictureMmPerPx(o, w, h); // mm per px of the w×h picture
+    double f = scale / pxMm;                      // px of the print grid per px of w×h
+    const double longSide = std::max(w, h) * f;
+    const bool cap = longSide > maxSide;
+    if (cap) f = maxSide / double(std::max(w, h));
+    if (capped) *capped = cap;
+    const auto side = [&](int v) { return std::clamp(int(std::lround(v * f)), 16, std::max(maxSide, 16)); };
+    return {side(w), side(h)};
+}
+
 std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, SvgReport *report) {
     if (list.width <= 0 || list.height <= 0)
         throw InputError(FileLoc{}, "SVG: stroke list has no size (" + std::to_string(list.width) + "x" +

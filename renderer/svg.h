@@ -80,6 +80,17 @@ SvgOptions svgOptionsFor(const styles::PageStyle &page);
 std::pair<double, double> orientedPage(double widthMm, double heightMm, styles::PageStyle::Orientation orientation,
                                        double marginMm, int pictureW, int pictureH);
 
+/// Millimetres on the page per raster px when a w×h px picture is fitted into
+/// the page of `options` (after orientation, inside the margin): the mapping
+/// svgDocument() uses. \throws InputError like svgDocument() for a page without room.
+double pictureMmPerPx(const SvgOptions &options, int w, int h);
+
+/// The resolution (width, height) whose pixels are `pxMm` mm on the page for a
+/// picture of aspect w:h fitted into the page of `options`; each side at least
+/// 16 px and at most `maxSide` (the aspect kept; *capped set when it had to be).
+std::pair<int, int> printResolution(const SvgOptions &options, int w, int h, double pxMm, int maxSide,
+                                    bool *capped = nullptr);
+
 /// The SVG document as text. Deterministic (fixed 3-decimal numbers, no
 /// timestamps), identical for any thread count. Non-finite points are dropped;
 /// an empty list gives a valid document with empty layers. Throws InputError if

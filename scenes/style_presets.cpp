@@ -68,6 +68,10 @@ const std::vector<StyleKey> &styleKeyTable() {
         ROSY_NUM("page.margin_mm", 0.0, 1000.0, page.marginMm),
         StyleKey{"page.orientation", SK::Text, 0, 0, nullptr, nullptr, nullptr, nullptr},
         ROSY_NUM("page.pen_width_mm", 0.0, 10.0, page.penWidthMm),
+        ROSY_NUM("page.px_mm", 0.01, 10.0, page.pxMm),
+        ROSY_NUM("page.min_spacing_mm", 0.0, 100.0, page.minSpacingMm),
+        ROSY_NUM("page.max_spacing_mm", 0.0, 1000.0, page.maxSpacingMm),
+        ROSY_NUM("page.min_length_mm", 0.0, 1000.0, page.minLengthMm),
     };
     return table;
 }
@@ -171,6 +175,11 @@ void checkStyle(const styles::Style &style, const std::map<std::string, FileLoc>
                          "hatch.cross_density (" + Parser::fmt(style.hatch.crossDensity) +
                              ") is below hatch.highlight_density (" + Parser::fmt(style.hatch.highlightDensity) + ")",
                          "cross-hatching starts at a darker tone than the first hatches");
+    if (style.page.minSpacingMm > 0 && style.page.maxSpacingMm > 0 && style.page.maxSpacingMm < style.page.minSpacingMm)
+        throw InputError(where("page.max_spacing_mm", "page.min_spacing_mm"),
+                         "page.max_spacing_mm (" + Parser::fmt(style.page.maxSpacingMm) +
+                             ") is below page.min_spacing_mm (" + Parser::fmt(style.page.minSpacingMm) + ")",
+                         "the sparsest spacing must be at least the densest");
     if (2 * style.page.marginMm >= std::min(style.page.widthMm, style.page.heightMm))
         throw InputError(where("page.margin_mm", "page.size"),
                          "page.margin_mm (" + Parser::fmt(style.page.marginMm) + ") leaves no room on a " +

@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace rosy::styles {
 
@@ -54,8 +56,23 @@ struct PageStyle {
     double heightMm = 297.0;
     double marginMm = 10.0;  ///< on every side
     Orientation orientation = Orientation::Auto;
-    double penWidthMm = 0.0; ///< > 0: every path this wide (one plotter pen); 0: each stroke's own width scaled to the page
+    double penWidthMm = 0.0; ///< print: the pen, every path this wide; 0: hatch.stroke_width_px × pxMm
+    /// Print mode (SVG output or --paper): one pixel of the style's *_px lengths
+    /// is this many mm on paper, and an SVG-only render is traced on a grid of
+    /// this pitch (the camera resolution then sets only the aspect ratio).
+    double pxMm = 0.17;
+    double minSpacingMm = 0.0; ///< print: densest hatch spacing on paper; 0: hatch.min_spacing_px × pxMm
+    double maxSpacingMm = 0.0; ///< print: sparsest hatch spacing on paper; 0: hatch.max_spacing_px × pxMm
+    double minLengthMm = -1.0; ///< print: shorter hatches are dropped; < 0: hatch.min_length_px × pxMm
 };
+
+/// A style's lengths on paper in print mode (PageStyle), in mm.
+struct PrintLengths {
+    double penWidthMm = 0, minSpacingMm = 0, maxSpacingMm = 0, minLengthMm = 0;
+};
+
+/// Narrowest line a plotter pen draws reliably (fine liners start at 0.1 mm).
+inline constexpr double kMinPenWidthMm = 0.1;
 
 struct Style {
     /// Colour of the background and of fully lit surfaces (linear RGB).
@@ -75,5 +92,20 @@ struct Style {
 
 /// Linear-light colour of tone t (0 = ink, 1 = paper); t is clamped to [0, 1].
 Rgb toneToColor(const Style &style, double tone);
+
+/// The page keys given in mm, the others derived from the *_px lengths × page.pxMm.
+PrintLengths printLengths(const Style &style);
+
+/// The style for tracing a picture whose pixels are `mmPerPx` mm on paper: hatch
+/// width, spacings and minimum length become printLengths() / mmPerPx, jitter is
+/// scaled with pxMm / mmPerPx, and the contour widths become the pen's (every
+/// path is drawn with it; a width of 0, no contours, stays 0). If the densest
+/// spacing would fall under 1 px (a grid too coarse for the lengths asked) the
+/// lengths are taken as style pixels instead (mm / pxMm) and *coarsened is set.
+Style printStyle(const Style &style, double mmPerPx, bool *coarsened = nullptr);
+
+/// What a pen plotter cannot draw as asked, one sentence each (empty: nothing):
+/// a pen under kMinPenWidthMm, or a densest spacing below the pen's width.
+std::vector<std::string> printProblems(const PrintLengths &lengths);
 
 } // namespace rosy::styles

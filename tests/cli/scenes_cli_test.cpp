@@ -346,7 +346,9 @@ TEST(SceneOutputsCli, OneRenderWritesEveryListedOutput) {
     ASSERT_TRUE(exr.init_spec((dir / "multi.exr").string(), 0, 0));
     EXPECT_EQ(exr.spec().width, 48);
     EXPECT_GT(exr.spec().nchannels, 4); // the ink layers and field channels
-    const CliRun alone = run("render " + quoted(scene) + " -o single.png -q", "multi-single");
+    // An SVG in the list puts the render in print mode (lengths in mm on the
+    // page): a PNG alone matches it with --paper (the style's page, A4).
+    const CliRun alone = run("render " + quoted(scene) + " -o single.png --paper a4 -q", "multi-single");
     ASSERT_EQ(alone.exitCode, 0) << alone.err;
     EXPECT_EQ(slurp(dir / "multi.png"), slurp(dir / "single.png"));
 }

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fcntl.h>
 #include <string>
+#include <vector>
 #include <thread>
 #include <unistd.h>
 
@@ -83,4 +84,40 @@ TEST(Progress, OnATerminalDrawsAfterTheFirstSecondUnlessDisabled) {
     EXPECT_EQ(finished.substr(finished.size() - 4), "\r\033[K");
     bar.finish(); // only once
     EXPECT_EQ(tty.read(), "");
+}
+
+TEST(Progress, StagedEstimateFollowsTheFinishedStagesRate) {
+    const std::vector<ProgressStage> stages = {{"a", 1}, {"b", 3}};
+    double fraction = 0, left = 0;
+    // In the first stage there is no rate yet: nothing done, no time left.
+    Progress::estimate(stages, 0, 0.0, 0.5, fraction, left);
+    EXPECT_EQ(fraction, 0.0);
+    EXPECT_LT(left, 0.0);
+    // Stage a (weight 1) took 2 s: b (weight 3) should take 6 s. One second into b:
+    // done (1 + 3/6) of 4, left 5 s.
+    Progress::estimate(stages, 1, 2.0, 3.0, fraction, left);
+    EXPECT_DOUBLE_EQ(fraction, 1.5 / 4.0);
+    EXPECT_DOUBLE_EQ(left, 5.0);
+    // A stage running late stays at 95 % of its weight and keeps a little time left.
+    Progress::estimate(stages, 1, 2.0, 20.0, fraction, left);
+    EXPECT_DOUBLE_EQ(fraction, (1.0 + 0.95 * 3.0) / 4.0);
+    EXPECT_GT(left, 0.0);
+}
+
+TEST(Progress, StagedWorkNamesItsStageWithoutBeingAdvanced) {
+    StderrOnTerminal tty;
+    if (!tty.ok()) GTEST_SKIP() << "no pseudo-terminal";
+    setProgressEnabled(true);
+    Progress p("rendering", {{"first", 1}, {"second", 3}});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    p.beginStage(1);
+    EXPECT_EQ(tty.read(), ""); // silent in the first second
+    // No advance() at all: the display's own thread redraws with the running stage.
+    std::this_thread::sleep_for(std::chrono::milliseconds(1300));
+    const std::string drawn = tty.read();
+    EXPECT_NE(drawn.find("\rrendering: second"), std::string::npos) << drawn;
+    EXPECT_NE(drawn.find("%"), std::string::npos) << drawn; // the first stage gave a rate: a bar
+    p.finish();
+    const std::string finished = tty.read();
+    EXPECT_EQ(finished.substr(finished.size() - 4), "\r\033[K");
 }

@@ -9,6 +9,7 @@
 #include "renderer/plotter.h"
 #include "renderer/svg.h"
 #include "scenes/pipeline.h"
+#include "scenes/print_units.h"
 #include "scenes/scene.h"
 
 #include <OpenImageIO/imageio.h>
@@ -21,6 +22,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -282,4 +285,129 @@ TEST(SvgRender, PlotterPassKeepsPenDownAndCutsPenUp) {
     std::printf("strokes %zu -> paths %d, pen-down %.1f mm (input %.1f mm), pen-up ratio %.3f, overlap %.2f mm\n",
                 il.strokes.strokes.size(), report.paths, report.penDownMm, inputPx * report.mmPerPx,
                 report.penUpRatioVsUnsorted, report.overlapRemovedMm);
+}
+
+// --- print mode (scenes/print_units.h) ---------------------------------------------
+
+namespace {
+
+/// Ink length in mm of the hatch layers ("1 hatch", "2 cross-hatch") read back
+/// from the SVG text, and every stroke-width written there.
+struct HatchInk {
+    double lengthMm = 0;
+    std::set<std::string> widths;
+};
+
+HatchInk hatchInk(const std::string &svg) {
+    HatchInk ink;
+    std::string layer;
+    size_t at = 0;
+    while ((at = svg.find('<', at)) != std::string::npos) {
+        const size_t end = svg.find('>', at);
+        const std::string tag = svg.substr(at, end - at);
+        at = end;
+        const auto attr = [&](const std::string &name) {
+            const size_t k = tag.find(" " + name + "=\"");
+            if (k == std::string::npos) return std::string();
+            const size_t v = k + name.size() + 3;
+            return tag.substr(v, tag.find('"', v) - v);
+        };
+        if (tag.rfind("<g", 0) == 0) layer = attr("inkscape:label");
+        if (tag.rfind("<path", 0) != 0 || (layer != "1 hatch" && layer != "2 cross-hatch")) continue;
+        ink.widths.insert(attr("stroke-width"));
+        std::istringstream d(attr("d"));
+        std::string token;
+        std::vector<double> xy;
+        while (d >> token)
+            if (token != "M" && token != "L") xy.push_back(std::stod(token));
+        for (size_t i = 2; i + 1 < xy.size(); i += 2) ink.lengthMm += std::hypot(xy[i] - xy[i - 2], xy[i + 1] - xy[i - 1]);
+    }
+    return ink;
+}
+
+/// The torus scene on a square page of side `pageMm` (5 mm margins, so the
+/// picture is pageMm − 10 mm wide) at side² px, in print mode or not; returns
+/// the hatch ink per mm² of the picture.
+struct PrintRun {
+    double inkPerMm2 = 0;
+    HatchInk ink;
+    scenes::PrintSetup setup;
+};
+
+PrintRun printRun(double pageMm, int side, bool print, bool keepResolution, const std::string &extraPage = "") {
+    const std::string page = std::to_string(int(pageMm));
+    const std::string text = "mesh: {primitive: torus}\ncamera:\n  auto: true\n  direction: [0.2, 1.0, 0.9]\n"
+                             "  fov: 30\n  resolution: [" + std::to_string(side) + ", " + std::to_string(side) +
+                             "]\nlights:\n  - {type: directional, direction: [-0.6, 1.0, 0.7], intensity: 0.9}\n"
+                             "style:\n  page: {size: " + page + "x" + page + ", margin_mm: 5" + extraPage + "}\n";
+    scenes::SceneDesc desc = scenes::parseScene(text, scenePath());
+    PrintRun run;
+    SvgOptions opt = svgOptionsFor(desc.style.style.page);
+    if (print) {
+        run.setup = scenes::applyPrintUnits(desc, keepResolution);
+        opt.penWidthMm = run.setup.lengths.penWidthMm;
+        opt.plotter = run.setup.plotter;
+    }
+    scenes::PipelineOptions options;
+    options.raster = false;
+    const Illustration il = std::move(*scenes::renderScene(desc, options).illustration);
+    run.ink = hatchInk(svgDocument(il.strokes, opt));
+    const double pictureMm = pageMm - 10; // a square picture fills the square page inside the margins
+    run.inkPerMm2 = run.ink.lengthMm / (pictureMm * pictureMm);
+    return run;
+}
+
+} // namespace
+
+TEST(PrintMode, SameLineDensityOnPaperForAnyResolutionAndPageSize) {
+    // Pen 0.3 mm, hatches 0.8–6 mm apart: on a 60 mm page (50 mm picture) the
+    // scene's 200² px put the densest spacing at 3.2 px, 400² at 6.4 px.
+    const std::string pen = ", pen_width_mm: 0.3, min_spacing_mm: 0.8, max_spacing_mm: 2.4, min_length_mm: 1";
+    const PrintRun r200 = printRun(60, 200, true, true, pen);
+    const PrintRun r400 = printRun(60, 400, true, true, pen);
+    // SVG only: traced at page.px_mm (0.17 mm) whatever the camera says; a 1.5x larger page.
+    const PrintRun small = printRun(60, 128, true, false, pen);
+    const PrintRun large = printRun(85, 128, true, false, pen);
+    EXPECT_EQ(small.setup.resolution[0], 294); // 50 mm / 0.17 mm
+    EXPECT_EQ(large.setup.resolution[0], 441); // 75 mm / 0.17 mm
+    std::printf("hatch ink per mm² of picture: 200² %.4f, 400² %.4f; page 60 %.4f, page 85 %.4f (mm/mm²)\n",
+                r200.inkPerMm2, r400.inkPerMm2, small.inkPerMm2, large.inkPerMm2);
+    ASSERT_GT(r200.inkPerMm2, 0.05);
+    // Issue 18 asks for 5 %. Measured (2026-12-02): 400²/200² 1.118, page 85/60
+    // 0.944, SVG-only/kept 1.073, against 2.2x without print mode (below). The
+    // remaining spread is the tracer's (renderer/hatching.cpp), which is not
+    // invariant under a change of pixel pitch even with every length scaled: the
+    // limit here is 15 %, the issue's 5 % is NOT met yet.
+    constexpr double kTolerance = 0.15;
+    EXPECT_NEAR(r400.inkPerMm2 / r200.inkPerMm2, 1.0, kTolerance);
+    EXPECT_NEAR(large.inkPerMm2 / small.inkPerMm2, 1.0, kTolerance);
+    EXPECT_NEAR(small.inkPerMm2 / r200.inkPerMm2, 1.0, kTolerance);
+    // Every hatch path has the pen's width.
+    for (const PrintRun *r : {&r200, &r400, &small, &large}) EXPECT_EQ(r->ink.widths, (std::set<std::string>{"0.3"}));
+    // The measure can fail: without print mode the lengths are pixels, so the
+    // same page at 400² gets lines twice as dense on paper.
+    const PrintRun px200 = printRun(60, 200, false, true), px400 = printRun(60, 400, false, true);
+    std::printf("without print mode: 200² %.4f, 400² %.4f mm/mm², %zu distinct widths\n", px200.inkPerMm2,
+                px400.inkPerMm2, px400.ink.widths.size());
+    EXPECT_GT(px400.inkPerMm2 / px200.inkPerMm2, 1.5);
+}
+
+TEST(PrintMode, WarnsWhenAPenCannotDrawTheStyle) {
+    styles::Style style;
+    EXPECT_TRUE(styles::printProblems(styles::printLengths(style)).empty()); // 0.306 mm pen, 0.544 mm spacing
+    style.page.penWidthMm = 0.05;
+    auto problems = styles::printProblems(styles::printLengths(style));
+    ASSERT_EQ(problems.size(), 1u);
+    EXPECT_NE(problems[0].find("0.05 mm"), std::string::npos) << problems[0];
+    style.page.penWidthMm = 0.8; // wider than the 0.544 mm densest spacing
+    problems = styles::printProblems(styles::printLengths(style));
+    ASSERT_EQ(problems.size(), 1u);
+    EXPECT_NE(problems[0].find("closer than"), std::string::npos) << problems[0];
+    // A resolution too coarse for the spacing (2 mm per px, hatches 0.544 mm
+    // apart): the style's own pixels instead, and said so.
+    bool coarsened = false;
+    const styles::Style s = styles::printStyle(styles::Style{}, 2.0, &coarsened);
+    EXPECT_TRUE(coarsened);
+    EXPECT_NEAR(s.hatch.minSpacingPx, 3.2, 1e-12);
+    EXPECT_NEAR(styles::printStyle(styles::Style{}, 0.085).hatch.minSpacingPx, 6.4, 1e-12); // half the 0.17 mm pitch
 }
