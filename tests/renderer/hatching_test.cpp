@@ -418,7 +418,9 @@ TEST(Hatching, FamilyCoverageSplitsTheToneAndFadesTheCrossFamilyIn) {
         }
         EXPECT_NEAR(1.0 - (1.0 - a) * (1.0 - b), rho, 1e-12) << rho; // the two together give the tone
         EXPECT_GE(a, b - 1e-12) << rho;
-        if (rho < st.crossDensity) EXPECT_EQ(b, 0.0) << rho;
+        if (rho < st.crossDensity) {
+            EXPECT_EQ(b, 0.0) << rho;
+        }
     }
     // Continuous where the second family starts, an even split at the top of the band.
     const auto below = familyCoverage(st.crossDensity - 1e-9, st), above = familyCoverage(st.crossDensity + 1e-9, st);
