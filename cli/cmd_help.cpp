@@ -9,6 +9,7 @@
 
 #include "renderer/image_io.h"
 #include "scenes/style_presets.h"
+#include "studio/server.h"
 
 #include <algorithm>
 #include <cctype>
@@ -120,6 +121,7 @@ std::string versionText() {
     os << "style presets:";
     for (const std::string &dir : scenes::styleSearchDirs()) os << " " << dir;
     os << "\n";
+    os << "studio page: " << studio::defaultWebDir() << "\n";
     return os.str();
 }
 

@@ -84,8 +84,16 @@ void sendText(httplib::Response &res, int status, const std::string &message) {
 } // namespace
 
 std::string defaultWebDir() {
-    // Installed beside the program (share/rosyhatch/studio), else the source tree's.
-    return envOr("ROSY_STUDIO_WEB_DIR", ROSY_STUDIO_WEB_DIR);
+    // $ROSY_STUDIO_WEB_DIR, else installed beside the program
+    // (<executable>/../share/rosyhatch/studio, `cmake --install`), else the source tree's.
+    if (const char *v = std::getenv("ROSY_STUDIO_WEB_DIR"); v && *v) return v;
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "rosyhatch" / "studio";
+        if (std::filesystem::is_regular_file(installed / "index.html", ec)) return installed.string();
+    }
+    return ROSY_STUDIO_WEB_DIR;
 }
 
 struct StudioServer::Impl {

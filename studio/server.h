@@ -38,7 +38,9 @@ struct ServerOptions {
     size_t maxBodyBytes = 64 * 1024;
 };
 
-/// Where the page's files are when ServerOptions::webDir is empty.
+/// Where the page's files are when ServerOptions::webDir is empty: $ROSY_STUDIO_WEB_DIR,
+/// else <executable>/../share/rosyhatch/studio when it holds index.html (installed),
+/// else the source tree's studio/web.
 std::string defaultWebDir();
 
 class StudioServer {

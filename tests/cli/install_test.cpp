@@ -104,7 +104,8 @@ TEST(CommandLine, CmakeInstallGivesAWorkingProgram) {
     const fs::path bin = prefix / "bin" / "rosyhatch";
     for (const fs::path &p : {bin, prefix / "lib/rosyhatch/librosy_image_io.so",
                               prefix / "share/rosyhatch/styles/fine-pen.yaml", prefix / "share/man/man1/rosyhatch.1",
-                              prefix / "share/bash-completion/completions/rosyhatch"})
+                              prefix / "share/bash-completion/completions/rosyhatch",
+                              prefix / "share/rosyhatch/studio/index.html", prefix / "share/rosyhatch/studio/app.js"})
         EXPECT_TRUE(fs::exists(p)) << p;
 
     // The installed program finds its module and presets beside it.
@@ -113,6 +114,10 @@ TEST(CommandLine, CmakeInstallGivesAWorkingProgram) {
     EXPECT_TRUE(contains(version, "image I/O module: " + (prefix / "lib/rosyhatch/librosy_image_io.so").string()))
         << version;
     EXPECT_TRUE(contains(version, (prefix / "share/rosyhatch/styles").string())) << version;
+    // ... and the studio's page (ROSY_STUDIO_WEB_DIR unset: the installed copy, not the source tree's).
+    const auto [scode, sversion] = shell("ROSY_STUDIO_WEB_DIR= '" + bin.string() + "' -V", "installed-version-studio");
+    EXPECT_EQ(scode, 0) << sversion;
+    EXPECT_TRUE(contains(sversion, "studio page: " + (prefix / "share/rosyhatch/studio").string())) << sversion;
     std::ofstream(workDir() / "i.yaml") << "mesh: {primitive: icosphere, subdivisions: 1}\n"
                                            "camera: {resolution: [32, 24]}\nstyle: {preset: engraving}\n";
     fs::remove(workDir() / "i.png");
