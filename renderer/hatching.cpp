@@ -423,7 +423,7 @@ public:
                 // In single tone the tracer kept every first-family line d_test clear of
                 // the earlier ones whatever their direction: nothing to find there.
                 if (i < 0 || singleTone(i)) continue;
-                const double r = kTestRatio * familySpacingPx(densityAt(i), 0, m_style, m_crossWeight[size_t(i)]);
+                const double r = kTestRatio * m_spacing[0][size_t(i)];
                 if (m_grid.any(pts[v], r, [&](const Sample &s) {
                         return s.stroke < int(k) && s.family == 0 && !moved[size_t(s.stroke)] &&
                                std::abs(s.t.dot(tans[v])) < kSameFamilyCos && (s.p - pts[v]).squaredNorm() < r * r;
