@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "field/mesh/union_find.h"
 #include "remesh/aabb_tree.h"
 
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
@@ -360,19 +361,6 @@ void smoothPositions(Level &L, const Lattice &lat, const std::vector<std::vector
         }, 512);
 }
 
-struct UnionFind {
-    std::vector<int> parent;
-    explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-    int find(int x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void unite(int a, int b) {
-        a = find(a), b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-};
-
 /// N = 4: two triangles sharing an edge become one quad (their union), greedily in
 /// face order. Polygons are rewritten in place (merged ones removed).
 void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions, int nSym,
@@ -573,7 +561,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     t0 = Clock::now();
     const Level &F = levels[0];
     const int nV = F.size();
-    UnionFind uf(nV);
+    field::UnionFind uf(nV);
     std::vector<std::pair<int, int>> unitEdges;
     for (int i = 0; i < nV; ++i)
         for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {

@@ -3,6 +3,7 @@
 #include "core/diagnostics.h"
 #include "core/error.h"
 #include "field/mesh/mesh_scan.h"
+#include "field/mesh/union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -17,21 +18,6 @@ namespace rosy::field {
 namespace {
 
 using detail::kMaxCoordinate;
-
-struct UnionFind {
-    std::vector<int> parent;
-    explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-    int find(int x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    // The smaller id becomes the root so results do not depend on call order.
-    void unite(int a, int b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 uint64_t edgeKey(int a, int b) {
     if (a > b) std::swap(a, b);
