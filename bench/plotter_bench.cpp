@@ -1,4 +1,4 @@
-// The plotter pass (renderer/plotter.h) and the SVG writer.
+// The plotter pass (renderer/output/plotter.h) and the SVG writer.
 //
 //   build/bench/plotter_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //
@@ -12,8 +12,8 @@
 
 #include "bench/plotter_reference.h"
 #include "renderer/illustration.h"
-#include "renderer/plotter.h"
-#include "renderer/svg.h"
+#include "renderer/output/plotter.h"
+#include "renderer/output/svg.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 /// \file plotter_reference.h
-/// A textbook yardstick for the plotter pass's ordering (renderer/plotter.h),
+/// A textbook yardstick for the plotter pass's ordering (renderer/output/plotter.h),
 /// shared by plotter_bench and tests/renderer/svg_test.cpp. It is what vpype's
 /// `linesort --two-opt` documents (greedy nearest neighbour with flipping, then
 /// 2-opt passes that reverse runs of lines, each line turned around), written
@@ -12,7 +12,7 @@
 /// O(n²) per pass: for a few thousand strokes. The pen starts at the origin, as
 /// in the plotter pass; the travel is renderer::penUpLength().
 
-#include "renderer/strokes.h"
+#include "renderer/output/strokes.h"
 
 #include <algorithm>
 #include <limits>

@@ -12,9 +12,9 @@
 #include "core/json.h"
 #include "core/progress.h"
 #include "field/field_builder.h"
-#include "renderer/image.h"
-#include "renderer/image_io.h"
-#include "renderer/panel_sheet.h"
+#include "renderer/output/image.h"
+#include "renderer/output/image_io.h"
+#include "renderer/output/panel_sheet.h"
 #include "scenes/compare.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
@@ -133,7 +133,7 @@ void runCompare(const CompareOptions &opt) {
         checkWritable(opt.reportPath);
         checkNotAnInput(opt.reportPath, opt.scenePath, "scene");
     }
-    renderer::preloadImageIo(); // OpenImageIO maps while the fields are built (renderer/image_io.h)
+    renderer::preloadImageIo(); // OpenImageIO maps while the fields are built (renderer/output/image_io.h)
 
     scenes::PipelineOptions pipeline;
     pipeline.load = field::LoadOptions{opt.common.maxFaces};

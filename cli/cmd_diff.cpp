@@ -1,6 +1,6 @@
 /// \file cmd_diff.cpp
 /// `rosyhatch diff A B`: compares two renderings the way our golden tests do
-/// (renderer/image_diff.h) and exits with idiff's codes, so users can keep
+/// (renderer/evaluation/image_diff.h) and exits with idiff's codes, so users can keep
 /// image regression tests of their own scenes, and scripts written for
 /// OpenImageIO's idiff keep working.
 ///
@@ -24,8 +24,8 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "renderer/image.h"
-#include "renderer/image_diff.h"
+#include "renderer/output/image.h"
+#include "renderer/evaluation/image_diff.h"
 
 #include <iostream>
 #include <memory>

@@ -17,9 +17,9 @@
 #include "field/separatrices.h"
 #include "field/singularities.h"
 #include "field/smoothing.h"
-#include "renderer/image_io.h"
+#include "renderer/output/image_io.h"
 #include "renderer/field_picture.h"
-#include "renderer/image.h"
+#include "renderer/output/image.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
@@ -299,7 +299,7 @@ void runField(const FieldOptions &opt) {
                          "give --cancel, --move or --cancel-near (or a scene with field edits), or use --image only");
     // Every output is published at the end, together, or none is (core/atomic_file.h).
     OutputBatch outputs;
-    // OpenImageIO maps while the field is built (renderer/image_io.h).
+    // OpenImageIO maps while the field is built (renderer/output/image_io.h).
     if (!opt.imagePath.empty() || !opt.imageBeforePath.empty()) renderer::preloadImageIo();
 
     std::vector<std::pair<std::string, double>> ms;

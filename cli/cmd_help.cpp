@@ -7,7 +7,7 @@
 
 #include "cli/commands.h"
 
-#include "renderer/image_io.h"
+#include "renderer/output/image_io.h"
 #include "scenes/style_presets.h"
 #include "studio/server.h"
 

@@ -1,13 +1,13 @@
 /// \file cmd_inspect.cpp
 /// `rosyhatch inspect RENDER.exr [--json OUT]`: quality measures of a rendering
-/// from its EXR channels alone (see renderer/inspect.h).
+/// from its EXR channels alone (see renderer/evaluation/inspect.h).
 
 #include "cli/commands.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "renderer/image.h"
-#include "renderer/inspect.h"
+#include "renderer/output/image.h"
+#include "renderer/evaluation/inspect.h"
 
 #include <tbb/global_control.h>
 

@@ -13,9 +13,9 @@
 #include "core/memory.h"
 #include "core/progress.h"
 #include "renderer/illustration.h"
-#include "renderer/image.h"
-#include "renderer/image_io.h"
-#include "renderer/svg.h"
+#include "renderer/output/image.h"
+#include "renderer/output/image_io.h"
+#include "renderer/output/svg.h"
 #include "scenes/pipeline.h"
 #include "scenes/print_units.h"
 #include "scenes/scene.h"
@@ -157,7 +157,7 @@ void runRender(const RenderOptions &opt) {
         // (scenes::renderMemoryEstimate(); README, "Limits").
         checkRenderFits(opt.scenePath, scene, std::any_of(rasterPaths.begin(), rasterPaths.end(), isExrPath));
         // Image files go out through OpenImageIO, a module of ~260 shared libraries:
-        // map it on a background thread while the field is solved (renderer/image_io.h).
+        // map it on a background thread while the field is solved (renderer/output/image_io.h).
         // Not before the mesh load: the mapping slowed the loader's page faults from 50
         // to 100 ms, more than the load could hide. The SVG writer does not need it.
         if (!rasterPaths.empty()) renderer::preloadImageIo();

@@ -8,8 +8,8 @@
 
 #include "core/parallel.h"
 #include "field/streamlines.h"
-#include "renderer/embree_scene.h"
-#include "renderer/gbuffer.h"
+#include "renderer/view/embree_scene.h"
+#include "renderer/view/gbuffer.h"
 
 #include <algorithm>
 #include <cmath>

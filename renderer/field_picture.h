@@ -15,9 +15,9 @@
 #include "field/rosy.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
-#include "renderer/camera.h"
-#include "renderer/image.h"
-#include "renderer/shading.h"
+#include "renderer/view/camera.h"
+#include "renderer/output/image.h"
+#include "renderer/view/shading.h"
 
 #include <array>
 #include <vector>

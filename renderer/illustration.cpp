@@ -1,10 +1,10 @@
 #include "renderer/illustration.h"
-#include "renderer/large_buffer.h"
+#include "renderer/output/large_buffer.h"
 
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/progress.h"
-#include "renderer/embree_scene.h"
+#include "renderer/view/embree_scene.h"
 
 #include <algorithm>
 #include <chrono>

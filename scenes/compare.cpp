@@ -3,10 +3,10 @@
 #include "field/edits.h"
 #include "field/separatrices.h"
 #include "field/smoothing.h"
-#include "renderer/embree_scene.h"
+#include "renderer/view/embree_scene.h"
 #include "renderer/field_picture.h"
 #include "renderer/illustration.h"
-#include "renderer/inspect.h"
+#include "renderer/evaluation/inspect.h"
 
 #include <algorithm>
 #include <chrono>

@@ -8,7 +8,7 @@
 
 #include "field/rosy.h"
 #include "field/singularities.h"
-#include "renderer/image.h"
+#include "renderer/output/image.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
 

@@ -19,9 +19,9 @@
 #include "field/frames.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
-#include "renderer/embree_scene.h"
+#include "renderer/view/embree_scene.h"
 #include "renderer/illustration.h"
-#include "renderer/image.h"
+#include "renderer/output/image.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>

@@ -1,6 +1,6 @@
 #include "scenes/print_units.h"
 
-#include "renderer/svg.h"
+#include "renderer/output/svg.h"
 
 #include <algorithm>
 #include <sstream>

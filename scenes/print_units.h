@@ -7,7 +7,7 @@
 /// density on paper and every path the pen's width. `rosyhatch render` turns it
 /// on for an SVG output or --paper (README, "SVG for print and pen plotters").
 
-#include "renderer/plotter.h"
+#include "renderer/output/plotter.h"
 #include "scenes/scene.h"
 #include "styles/style.h"
 

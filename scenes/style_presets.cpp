@@ -1,6 +1,6 @@
 #include "scenes/style_presets.h"
 
-#include "renderer/svg.h"
+#include "renderer/output/svg.h"
 #include "scenes/scene.h"
 #include "scenes/style_block.h"
 #include "scenes/yaml_reader.h"

@@ -8,7 +8,7 @@
 #include "core/input_file.h"
 #include "core/parallel.h"
 #include "field/singularities.h"
-#include "renderer/image.h"
+#include "renderer/output/image.h"
 
 #include <nlohmann/json.hpp>
 

@@ -264,7 +264,7 @@ TEST(BadInputCli, DiskFullMidWriteKeepsThePreviousFileAndNoTemporary) {
 // The renderer is scale-invariant: at 1e-9 (and 2^-30) it used to draw less ink
 // than at unit scale (ink length 372 px against 515 px at 128²) because Embree's
 // single-precision tolerances are absolute; RayScene now hands Embree the scene
-// scaled by a power of two to unit size (renderer/embree_scene.cpp).
+// scaled by a power of two to unit size (renderer/view/embree_scene.cpp).
 TEST(BadInputCli, ExtremeScalesRenderLikeUnitScale) {
     const fs::path dir = workDir();
     // Powers of two near 1e-9 and 1e9 scale coordinates exactly, so the drawing
@@ -294,7 +294,7 @@ TEST(BadInputCli, ExtremeScalesRenderLikeUnitScale) {
     }
 }
 
-// OpenImageIO is loaded at run time from librosy_image_io.so (renderer/image_io.h).
+// OpenImageIO is loaded at run time from librosy_image_io.so (renderer/output/image_io.h).
 // Without it an image output is an environment error (exit 3) that names the module
 // and the fix, and leaves no file; what needs no image I/O still works.
 TEST(BadInputCli, MissingImageModuleIsAnIoErrorAndSvgStillWorks) {

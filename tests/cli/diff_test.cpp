@@ -3,7 +3,7 @@
 // (idiff's 0 pass / 1 warning / 2 failure / 4 file error, our 2 rejected
 // command line), and checked against Debian's idiff where it is installed.
 
-#include "renderer/image.h"
+#include "renderer/output/image.h"
 
 #include "cli_util.h"
 

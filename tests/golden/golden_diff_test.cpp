@@ -5,7 +5,7 @@
 
 #include "golden_util.h"
 
-#include "renderer/image_diff.h"
+#include "renderer/evaluation/image_diff.h"
 
 #include <gtest/gtest.h>
 

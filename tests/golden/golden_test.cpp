@@ -1,6 +1,6 @@
 // The golden suite: every example scene and every style preset rendered at
 // 256², compared with its committed golden (tests/golden/<name>.png) through
-// renderer/image_diff.h, and gated on the structure of the drawing (the render
+// renderer/evaluation/image_diff.h, and gated on the structure of the drawing (the render
 // report and `rosyhatch inspect` against <name>.report.json / .inspect.json).
 //
 // Regenerate every golden (then LOOK at each PNG before committing):
@@ -10,8 +10,8 @@
 
 #include "golden_util.h"
 
-#include "renderer/image.h"
-#include "renderer/image_diff.h"
+#include "renderer/output/image.h"
+#include "renderer/evaluation/image_diff.h"
 
 #include <gtest/gtest.h>
 

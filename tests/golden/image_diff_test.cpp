@@ -1,8 +1,8 @@
 // The comparison library on synthetic pictures whose differences are known by
 // construction.
 
-#include "renderer/image.h"
-#include "renderer/image_diff.h"
+#include "renderer/output/image.h"
+#include "renderer/evaluation/image_diff.h"
 #include "core/error.h"
 
 #include <gtest/gtest.h>

@@ -2,12 +2,12 @@
 // sphere (a circle of known radius), the projected edges of a cube and a square,
 // and the chain count of a torus outline.
 
-#include "renderer/contours.h"
+#include "renderer/strokes/contours.h"
 
 #include "field/primitives.h"
-#include "renderer/camera.h"
-#include "renderer/embree_scene.h"
-#include "renderer/gbuffer.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/embree_scene.h"
+#include "renderer/view/gbuffer.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

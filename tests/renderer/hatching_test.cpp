@@ -7,11 +7,11 @@
 #include "field/frames.h"
 #include "field/primitives.h"
 #include "field/singularities.h"
-#include "renderer/camera.h"
-#include "renderer/embree_scene.h"
-#include "renderer/gbuffer.h"
-#include "renderer/hatching.h"
-#include "renderer/screen_field.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/embree_scene.h"
+#include "renderer/view/gbuffer.h"
+#include "renderer/strokes/hatching.h"
+#include "renderer/strokes/screen_field.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

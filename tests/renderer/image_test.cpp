@@ -1,4 +1,4 @@
-#include "renderer/image.h"
+#include "renderer/output/image.h"
 
 #include "core/error.h"
 

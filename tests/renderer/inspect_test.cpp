@@ -1,11 +1,11 @@
 // Quality measures on synthetic drawings built here from closed-form line
 // profiles (not by the rasterizer), so the expected numbers are known exactly.
 
-#include "renderer/inspect.h"
+#include "renderer/evaluation/inspect.h"
 
 #include "core/error.h"
-#include "renderer/image.h"
-#include "renderer/raster.h"
+#include "renderer/output/image.h"
+#include "renderer/output/raster.h"
 
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
 // scenes issue 15 has not brought to every threshold yet are listed in kOpenGaps.
 
 #include "renderer/illustration.h"
-#include "renderer/inspect.h"
+#include "renderer/evaluation/inspect.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
 

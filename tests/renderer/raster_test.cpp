@@ -1,4 +1,4 @@
-#include "renderer/raster.h"
+#include "renderer/output/raster.h"
 
 #include "core/error.h"
 

@@ -1,9 +1,9 @@
 // The G-buffer and Lambert tone on hand-built spheres with known images.
 
-#include "renderer/camera.h"
-#include "renderer/embree_scene.h"
-#include "renderer/gbuffer.h"
-#include "renderer/shading.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/embree_scene.h"
+#include "renderer/view/gbuffer.h"
+#include "renderer/view/shading.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 #include "bench/plotter_reference.h"
-#include "renderer/plotter.h"
-#include "renderer/svg.h"
+#include "renderer/output/plotter.h"
+#include "renderer/output/svg.h"
 
 #include "core/error.h"
 

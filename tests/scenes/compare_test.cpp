@@ -2,8 +2,8 @@
 // (their layout). Expected values come from the request (panel count, order,
 // labels), Poincaré–Hopf and the layout rule written in panel_sheet.h.
 
-#include "renderer/bitmap_font.h"
-#include "renderer/panel_sheet.h"
+#include "renderer/output/bitmap_font.h"
+#include "renderer/output/panel_sheet.h"
 #include "scenes/compare.h"
 #include "scenes/scene.h"
 

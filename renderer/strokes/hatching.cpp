@@ -1,0 +1,1003 @@
+#include "renderer/strokes/hatching.h"
+
+#include "core/error.h"
+#include "core/parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <utility>
+
+namespace rosy::renderer {
+
+namespace {
+
+constexpr double kCos45 = 0.70710678118654752;
+/// The tracer treats lines within 55° as the same family, a margin over the 45° the
+/// measurement uses: a sample's tangent is its incoming step while the measurement
+/// takes central chords, which differ by up to half a step's turn (6°), and a line
+/// ending near another may be judged from either side.
+constexpr double kSameFamilyCos = 0.57357643635104609;
+/// Largest turn of a stroke in one integration step (0.2 d_sep): 12°. Sharper turns
+/// happen where the field swirls (singularities, label noise); stopping there keeps
+/// strokes straight and keeps a sample's tangent within a few degrees of its chords.
+constexpr double kMaxTurnCos = 0.97814760073380564;
+/// d_test / d_sep (Jobard & Lefer 1997; keithfma and anvaka use the same ratio).
+constexpr double kTestRatio = 0.5;
+/// Integration step as a fraction of d_sep, and its bounds in px: the upper bound
+/// keeps steps short enough that the one-pixel silhouette guard band cannot be jumped.
+constexpr double kStepRatio = 0.2;
+constexpr double kMinStepPx = 0.5;
+constexpr double kMaxStepPx = 2.0;
+/// Depth discontinuity: relative depth change over one pixel, alone or with a normal
+/// change of more than 60° (a different sheet of surface close behind).
+constexpr double kDepthJump = 0.03;
+constexpr double kDepthJumpWithNormal = 0.01;
+constexpr double kNormalJumpCos = 0.5;
+/// A seed keeps this many d_sep from same-direction lines: slightly under one, so a
+/// seed placed at exactly d_sep from its parent is not rejected by rounding; the hole
+/// filling pass (Hatcher::fillHoles) accepts less room.
+constexpr double kSeedClearance = 0.98;
+constexpr double kFillClearance = 0.7;
+/// The hole-filling pass keeps strokes from two d_sep on: a finger or a fold in
+/// shadow has no room for longer ones, and left empty it reads as a light patch.
+constexpr double kFillMinLengthRatio = 2.0;
+/// Range of tone (target density) over which the ends of each family's strokes are
+/// staggered, centred on its threshold (highlightDensity, crossDensity); the second
+/// family's reaches half of it below crossDensity, where the first family's tone
+/// rule still applies (its lines never cross there).
+constexpr double kEndStagger[2] = {0.04, 0.08};
+/// Tapered ends keep this fraction of the width, so a stroke does not end in nothing.
+constexpr double kTaperFloor = 0.2;
+/// Longest taper at each end of a stroke, in stroke widths.
+constexpr double kMaxTaperWidths = 3.0;
+
+float clampDensity(float d) { return d == d ? std::clamp(d, 0.f, 1.f) : 0.f; }
+
+/// Line spacing at which parallel lines of the style's width give `coverage`.
+double spacingOfCoverage(double coverage, const styles::HatchStyle &style) {
+    const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
+    if (!(coverage > 0)) return hi;
+    return std::clamp(style.strokeWidthPx / coverage, lo, hi);
+}
+
+/// splitmix64: a tiny, well-mixed hash for per-stroke random numbers.
+uint64_t mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+/// Uniform in [0, 1) from (seed, id, k).
+double random01(uint32_t seed, uint32_t id, uint32_t k) {
+    const uint64_t h = mix(mix((uint64_t(seed) << 32) | id) ^ k);
+    return double(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+Vec2 rotate(const Vec2 &v, double c, double s) { return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y()); }
+
+double pointSegmentDistance(const Vec2 &p, const Vec2 &a, const Vec2 &b) {
+    const Vec2 ab = b - a;
+    const double l2 = ab.squaredNorm();
+    double t = l2 > 0 ? (p - a).dot(ab) / l2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    return (p - (a + t * ab)).norm();
+}
+
+/// An accepted streamline sample, as Jobard–Lefer's distance grid stores it.
+struct Sample {
+    Vec2 p;
+    Vec2 t;     // unit tangent
+    double arc; // arc length along its stroke from the seed (negative backwards)
+    int stroke;
+    int family;
+    double dTest; // d_test at the sample's own pixel
+};
+
+/// Uniform grid over the image holding the samples by cell. Samples are only appended
+/// or removed from the back, so each cell's list stays in insertion order and a
+/// rejected stroke is undone by popping its samples in reverse.
+class SampleGrid {
+public:
+    SampleGrid(int width, int height, double cellPx)
+        : m_cell(cellPx), m_nx(std::max(1, int(std::ceil(width / cellPx)))),
+          m_ny(std::max(1, int(std::ceil(height / cellPx)))), m_cells(size_t(m_nx) * size_t(m_ny)),
+          m_cellMaxR(m_cells.size(), 0.0), m_bnx((m_nx + kBlock - 1) / kBlock), m_bny((m_ny + kBlock - 1) / kBlock),
+          m_blockMaxR(size_t(m_bnx) * size_t(m_bny), 0.0) {}
+
+    void add(const Sample &s) {
+        const size_t c = cellOf(s.p);
+        m_cells[c].push_back(s);
+        ++m_count[s.family != 0][c];
+        m_order.push_back(uint32_t(c));
+        // Maxima only grow: after a rejected stroke is popped they stay an upper
+        // bound, which is all anyWithin() needs.
+        m_cellMaxR[c] = std::max(m_cellMaxR[c], s.dTest);
+        double &blockMax = m_blockMaxR[blockOf(c)];
+        blockMax = std::max(blockMax, s.dTest);
+        m_maxR = std::max(m_maxR, s.dTest);
+    }
+    void popBack() {
+        --m_count[m_cells[m_order.back()].back().family != 0][m_order.back()];
+        m_cells[m_order.back()].pop_back();
+        m_order.pop_back();
+    }
+
+    /// Calls f(sample) for every sample that may lie within max(r, sample.dTest) of p,
+    /// until f returns true; f must not depend on the order of the calls. Blocks of
+    /// kBlock² cells, then cells, whose samples all have a small d_test are pruned by
+    /// their distance, so a wide query radius (light tone somewhere in the image) only
+    /// costs where large d_test exist: in dark tone a query reads a few cells, not the
+    /// 9 × 9 that the lightest d_test spans.
+    template <typename F> bool anyWithin(const Vec2 &p, double r, F &&f) const {
+        const double big = std::max(r, m_maxR);
+        const double blockPx = m_cell * kBlock, invBlock = 1.0 / blockPx, invCell = 1.0 / m_cell;
+        const int bx0 = std::max(0, int(std::floor((p.x() - big) * invBlock)));
+        const int bx1 = std::min(m_bnx - 1, int(std::floor((p.x() + big) * invBlock)));
+        const int by0 = std::max(0, int(std::floor((p.y() - big) * invBlock)));
+        const int by1 = std::min(m_bny - 1, int(std::floor((p.y() + big) * invBlock)));
+        for (int by = by0; by <= by1; ++by) {
+            const double dyb = gap(p.y(), by * blockPx, blockPx);
+            const double *blockMax = &m_blockMaxR[size_t(by) * size_t(m_bnx)];
+            for (int bx = bx0; bx <= bx1; ++bx) {
+                const double reachB = std::max(r, blockMax[bx]);
+                const double dxb = gap(p.x(), bx * blockPx, blockPx);
+                if (dxb * dxb + dyb * dyb >= reachB * reachB) continue;
+                // Cells of the block that overlap the square of half-side reachB around p.
+                const int x0 = std::max(bx * kBlock, int(std::floor((p.x() - reachB) * invCell)));
+                const int x1 = std::min({(bx + 1) * kBlock - 1, m_nx - 1, int(std::floor((p.x() + reachB) * invCell))});
+                const int y0 = std::max(by * kBlock, int(std::floor((p.y() - reachB) * invCell)));
+                const int y1 = std::min({(by + 1) * kBlock - 1, m_ny - 1, int(std::floor((p.y() + reachB) * invCell))});
+                for (int cy = y0; cy <= y1; ++cy) {
+                    const double dy = gap(p.y(), cy * m_cell, m_cell);
+                    const size_t row = size_t(cy) * size_t(m_nx);
+                    for (int cx = x0; cx <= x1; ++cx) {
+                        const std::vector<Sample> &cell = m_cells[row + size_t(cx)];
+                        if (cell.empty()) continue;
+                        const double dx = gap(p.x(), cx * m_cell, m_cell);
+                        const double reach = std::max(r, m_cellMaxR[row + size_t(cx)]);
+                        if (dx * dx + dy * dy >= reach * reach) continue;
+                        for (const Sample &s : cell)
+                            if (f(s)) return true;
+                    }
+                }
+            }
+        }
+        return false;
+    }
+    size_t size() const { return m_order.size(); }
+
+    /// The nearest sample closer than r to p whose family is (same) or is not (!same)
+    /// `family`; among equally near ones the first in any()'s order. Cells without such
+    /// samples, or none nearer than the best so far, are skipped. nullptr if none.
+    const Sample *nearest(const Vec2 &p, double r, int family, bool same) const {
+        const std::vector<uint32_t> &count = m_count[(family != 0) == same ? 1 : 0];
+        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        const Sample *best = nullptr;
+        double bestD = r * r;
+        for (int cy = y0; cy <= y1; ++cy) {
+            const double dy = gap(p.y(), cy * m_cell, m_cell);
+            if (dy * dy >= bestD) continue;
+            for (int cx = x0; cx <= x1; ++cx) {
+                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
+                if (count[c] == 0) continue;
+                const double dx = gap(p.x(), cx * m_cell, m_cell);
+                if (dx * dx + dy * dy >= bestD) continue;
+                for (const Sample &s : m_cells[c]) {
+                    if ((s.family == family) != same) continue;
+                    const double d2 = (s.p - p).squaredNorm();
+                    if (d2 < bestD) {
+                        bestD = d2;
+                        best = &s;
+                    }
+                }
+            }
+        }
+        return best;
+    }
+
+    /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
+    template <typename F> bool any(const Vec2 &p, double r, F &&f) const {
+        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        for (int cy = y0; cy <= y1; ++cy)
+            for (int cx = x0; cx <= x1; ++cx)
+                for (const Sample &s : m_cells[size_t(cy) * size_t(m_nx) + size_t(cx)])
+                    if (f(s)) return true;
+        return false;
+    }
+
+private:
+    /// Distance from coordinate v to the interval [lo, lo + size] (0 inside).
+    static double gap(double v, double lo, double size) { return std::max(0.0, std::max(lo - v, v - (lo + size))); }
+    static constexpr int kBlock = 4; // cells per block side for anyWithin()'s first pruning
+    size_t blockOf(size_t cell) const {
+        const int cx = int(cell % size_t(m_nx)), cy = int(cell / size_t(m_nx));
+        return size_t(cy / kBlock) * size_t(m_bnx) + size_t(cx / kBlock);
+    }
+    size_t cellOf(const Vec2 &p) const {
+        const int cx = std::clamp(int(std::floor(p.x() / m_cell)), 0, m_nx - 1);
+        const int cy = std::clamp(int(std::floor(p.y() / m_cell)), 0, m_ny - 1);
+        return size_t(cy) * size_t(m_nx) + size_t(cx);
+    }
+    double m_cell;
+    int m_nx, m_ny;
+    std::vector<std::vector<Sample>> m_cells; // samples stored by cell: queries read them in order
+    std::vector<double> m_cellMaxR; // upper bound of the samples' d_test per cell
+    int m_bnx, m_bny;
+    std::vector<double> m_blockMaxR; // the same per block of kBlock x kBlock cells
+    double m_maxR = 0;
+    std::vector<uint32_t> m_order; // cell of each sample, in insertion order (for popBack)
+    std::vector<uint32_t> m_count[2] = {std::vector<uint32_t>(m_cells.size(), 0),
+                                        std::vector<uint32_t>(m_cells.size(), 0)}; // per cell: family 0, other families
+};
+
+struct Disc {
+    Vec2 centre;
+    double radius;
+};
+
+/// Keep-away discs of the visible singularities: radius d_sep at the darkest tone
+/// within d_sep of the singularity's own tone. `shrink` < 1 gives the measuring tolerance.
+std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<float> &density,
+                                   const styles::HatchStyle &style, double shrink) {
+    struct Candidate {
+        Disc disc;
+        double index;   // k / N
+        bool crossTone; // the darkest tone within its disc is cross-hatched
+    };
+    std::vector<Candidate> cands;
+    for (const ScreenSingularity &s : field.singularities) {
+        if (!s.visible) continue;
+        const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
+        const int y = std::clamp(int(std::floor(s.pRaster.y())), 0, field.height - 1);
+        // d_sep at the singularity's own tone, unless darker tone lies within that
+        // radius: a singularity on a light part beside a dark one (the tip of a horn
+        // against a shadowed head) must not clear a light-tone disc out of the shadow.
+        const double r0 = localSpacingPx(clampDensity(density[size_t(field.index(x, y))]), style);
+        double darkest = 0.0;
+        const int ri = int(std::ceil(r0));
+        for (int yy = std::max(0, y - ri); yy <= std::min(field.height - 1, y + ri); ++yy)
+            for (int xx = std::max(0, x - ri); xx <= std::min(field.width - 1, x + ri); ++xx) {
+                const double dx = xx + 0.5 - s.pRaster.x(), dy = yy + 0.5 - s.pRaster.y();
+                if (dx * dx + dy * dy <= r0 * r0)
+                    darkest = std::max(darkest, double(clampDensity(density[size_t(field.index(xx, yy))])));
+            }
+        cands.push_back({{s.pRaster, localSpacingPx(darkest, style)}, s.index, darkest >= style.crossDensity});
+    }
+    // In cross-hatched tone, singularities whose discs overlap are one feature at the
+    // drawing's scale: the two families hide the field's structure below a line
+    // spacing. Such a group gets one disc at its mean position, and none when its
+    // indices sum to zero (a +1/4, −1/4 pair leaves the field around it regular).
+    // Scanned fists, lips and hooves carry dense clusters whose separate discs would
+    // clear the whole small dark part of ink (seam_fraction). Where lines are sparse
+    // every singularity shows and keeps its own disc.
+    std::vector<int> parent(cands.size());
+    for (size_t k = 0; k < parent.size(); ++k) parent[k] = int(k);
+    auto root = [&](int k) {
+        while (parent[size_t(k)] != k) k = parent[size_t(k)] = parent[size_t(parent[size_t(k)])];
+        return k;
+    };
+    // Pairs by a sweep along x: scans carry thousands of singularities.
+    std::vector<int> byX;
+    double maxRadius = 0.0;
+    for (size_t k = 0; k < cands.size(); ++k)
+        if (cands[k].crossTone) {
+            byX.push_back(int(k));
+            maxRadius = std::max(maxRadius, cands[k].disc.radius);
+        }
+    auto discOf = [&](int k) -> const Disc & { return cands[size_t(k)].disc; };
+    std::sort(byX.begin(), byX.end(), [&](int a, int b) { return discOf(a).centre.x() < discOf(b).centre.x(); });
+    for (size_t i = 0; i < byX.size(); ++i)
+        for (size_t j = i + 1; j < byX.size(); ++j) {
+            const Disc &a = discOf(byX[i]), &b = discOf(byX[j]);
+            if (b.centre.x() - a.centre.x() >= 2.0 * maxRadius) break;
+            const double reach = a.radius + b.radius;
+            if ((a.centre - b.centre).squaredNorm() < reach * reach) parent[size_t(root(byX[i]))] = root(byX[j]);
+        }
+    // Per group (indexed by its root): summed index, member count, centre sum, radius.
+    struct Group {
+        double net = 0.0;
+        int members = 0;
+        Vec2 centre = Vec2::Zero();
+        double radius = 0.0;
+    };
+    std::vector<Group> groups(cands.size());
+    for (size_t k = 0; k < cands.size(); ++k) {
+        Group &g = groups[size_t(root(int(k)))];
+        g.net += cands[k].index;
+        ++g.members;
+        g.centre += cands[k].disc.centre;
+        g.radius = std::max(g.radius, cands[k].disc.radius);
+    }
+    std::vector<Disc> kept;
+    for (const Group &g : groups)
+        if (g.members > 0 && std::abs(g.net) > 1e-6) kept.push_back({g.centre / double(g.members), shrink * g.radius});
+    return kept;
+}
+
+/// The sequential Jobard–Lefer tracer for one image.
+class Hatcher {
+public:
+    Hatcher(const ScreenField &field, const std::vector<float> &density, const GBuffer &gbuffer,
+            const styles::HatchStyle &style, uint32_t seed)
+        : m_field(field), m_density(density), m_style(style), m_seed(seed),
+          m_grid(field.width, field.height, std::max(2.0, style.minSpacingPx)) {
+        const double a = -style.angleOffsetDeg * M_PI / 180.0; // counter-clockwise on screen (y down)
+        m_offCos = std::cos(a);
+        m_offSin = std::sin(a);
+        m_rotated = style.angleOffsetDeg != 0.0;
+        buildBlocked(gbuffer);
+        m_crossWeight.resize(field.nPixels());
+        for (std::vector<double> &sp : m_spacing) sp.resize(field.nPixels());
+        parallelFor(0, int64_t(field.nPixels()), [&](int64_t ii) {
+            const size_t i = size_t(ii);
+            const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+            m_crossWeight[i] = float(w);
+            // Untoned pixels (paper, background) have no coverage: the sparsest spacing.
+            if (hatchFamilies(densityAt(int(i)), style) == 0) {
+                m_spacing[0][i] = m_spacing[1][i] = std::max(style.minSpacingPx, style.maxSpacingPx);
+                return;
+            }
+            const std::array<double, 2> coverage = familyCoverage(densityAt(int(i)), style, w);
+            for (int f = 0; f < 2; ++f) m_spacing[f][i] = spacingOfCoverage(coverage[size_t(f)], style);
+        }, 4096);
+        m_discs = singularityDiscs(field, density, style, 1.0);
+        // Pixels a disc may reach, so the exact test runs only near singularities.
+        m_nearDisc.assign(field.nPixels(), 0);
+        for (const Disc &d : m_discs) {
+            const int x0 = std::max(0, int(std::floor(d.centre.x() - d.radius)) - 1);
+            const int x1 = std::min(field.width - 1, int(std::floor(d.centre.x() + d.radius)) + 1);
+            const int y0 = std::max(0, int(std::floor(d.centre.y() - d.radius)) - 1);
+            const int y1 = std::min(field.height - 1, int(std::floor(d.centre.y() + d.radius)) + 1);
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) m_nearDisc[size_t(field.index(x, y))] = 1;
+        }
+    }
+
+    void traceFamily(int family) {
+        m_family = family;
+        m_firstFamilyOnly = family == 0;
+        // Scan seeds fill what propagation from accepted lines leaves empty; the scan
+        // is row-major so the result is deterministic.
+        const double stride = std::max(1.0, m_style.minSpacingPx);
+        for (double y = 0.5 * stride; y < m_field.height; y += stride)
+            for (double x = 0.5 * stride; x < m_field.width; x += stride) {
+                const Vec2 q(x, y);
+                m_threshold = baseThreshold();
+                if (!eligible(q)) continue;
+                Vec2 heading;
+                if (!scanHeading(q, heading)) continue;
+                if (trySeed(q, heading)) propagate();
+            }
+    }
+
+    /// Last pass: holes in cross-hatched tone. Jobard–Lefer seeds need a full d_sep of
+    /// room, so wedges between diverging lines narrower than 2 d_sep stay empty; in a
+    /// dark region such a wedge reads as a light crack. Any point of cross tone with no
+    /// line of either family within kFillClearance d_sep is seeded along both screen
+    /// directions with that clearance (lines still keep d_test from their neighbours).
+    void fillHoles() {
+        m_family = 0;
+        m_firstFamilyOnly = false;
+        m_seedClearance = kFillClearance;
+        m_minLengthRatio = kFillMinLengthRatio;
+        const double stride = std::max(1.0, m_style.minSpacingPx);
+        for (double y = 0.5 * stride; y < m_field.height; y += stride)
+            for (double x = 0.5 * stride; x < m_field.width; x += stride) {
+                const Vec2 q(x, y);
+                const int i = pixelIndex(q);
+                if (i < 0 || singleTone(i)) continue;
+                m_threshold = baseThreshold();
+                if (!eligible(q)) continue;
+                const double r = kFillClearance * spacingAt(i);
+                if (m_grid.any(q, r, [&](const Sample &s) { return (s.p - q).squaredNorm() < r * r; })) continue;
+                const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
+                Vec2 h(d0.x(), d0.y());
+                if (m_rotated) h = rotate(h, m_offCos, m_offSin);
+                if (trySeed(q, h) || trySeed(q, Vec2(-h.y(), h.x()))) propagate();
+            }
+        m_seedClearance = kSeedClearance;
+        m_minLengthRatio = kStubLengthRatio;
+    }
+
+    /// Layers by direction. In cross tone a first-family line may cross first-family
+    /// lines traced before it (where two fronts of the cross field's labels meet); such
+    /// a line is cross-hatching, so when most of its samples cross earlier first-family
+    /// lines it moves to family 1. Creation order decides, so the result is deterministic.
+    void relabelCrossings() {
+        std::vector<uint8_t> moved(m_strokes.size(), 0);
+        for (size_t k = 0; k < m_strokes.size(); ++k) {
+            if (m_strokes[k].family != 0) continue;
+            const std::vector<Vec2> &pts = m_strokes[k].points;
+            const std::vector<Vec2> &tans = m_tangents[k];
+            size_t crossing = 0;
+            for (size_t v = 0; v < pts.size(); ++v) {
+                const int i = pixelIndex(pts[v]);
+                // In single tone the tracer kept every first-family line d_test clear of
+                // the earlier ones whatever their direction: nothing to find there.
+                if (i < 0 || singleTone(i)) continue;
+                const double r = kTestRatio * m_spacing[0][size_t(i)];
+                if (m_grid.any(pts[v], r, [&](const Sample &s) {
+                        return s.stroke < int(k) && s.family == 0 && !moved[size_t(s.stroke)] &&
+                               std::abs(s.t.dot(tans[v])) < kSameFamilyCos && (s.p - pts[v]).squaredNorm() < r * r;
+                    }))
+                    ++crossing;
+            }
+            if (2 * crossing > pts.size()) {
+                moved[k] = 1;
+                m_strokes[k].family = 1;
+            }
+        }
+    }
+
+    std::vector<Stroke> takeStrokes() { return std::move(m_strokes); }
+
+private:
+    int pixelIndex(const Vec2 &p) const {
+        const int x = int(std::floor(p.x())), y = int(std::floor(p.y()));
+        if (x < 0 || y < 0 || x >= m_field.width || y >= m_field.height) return -1;
+        return m_field.index(x, y);
+    }
+    double densityAt(int i) const { return clampDensity(m_density[size_t(i)]); }
+    double spacingAt(int i) const { return m_spacing[m_family][size_t(i)]; }
+
+    bool inDisc(const Vec2 &q) const {
+        const int i = pixelIndex(q);
+        if (i < 0 || !m_nearDisc[size_t(i)]) return false;
+        for (const Disc &d : m_discs)
+            if ((q - d.centre).squaredNorm() < d.radius * d.radius) return true;
+        return false;
+    }
+
+    /// The density from which the current family hatches: highlightDensity for the
+    /// first, crossDensity for the second.
+    double baseThreshold() const { return m_family == 0 ? m_style.highlightDensity : m_style.crossDensity; }
+
+    /// A stroke's own threshold: the family's ± half kEndStagger at random, so
+    /// the strokes that end at a tone edge end at different tones (Hertzmann & Zorin
+    /// 2000 stagger them) instead of along one iso-line, which reads as a hard edge.
+    void drawThreshold() {
+        m_threshold = baseThreshold() + kEndStagger[m_family] * (random01(m_seed, m_attempts++, 0x5eedu) - 0.5);
+    }
+
+    /// A point a stroke of the current family may occupy (tone at least m_threshold).
+    bool eligible(const Vec2 &q) const {
+        const int i = pixelIndex(q);
+        if (i < 0 || m_blocked[size_t(i)]) return false;
+        if (hatchFamilies(densityAt(i), m_style) <= m_family || densityAt(i) < m_threshold) return false;
+        if (m_family == 1 && m_crossWeight[size_t(i)] <= 0.0f) return false;
+        return !inDisc(q);
+    }
+
+    bool direction(const Vec2 &p, const Vec2 &heading, Vec2 &dir) const {
+        if (!m_rotated) return m_field.lineNear(p, heading, dir);
+        Vec2 d;
+        if (!m_field.lineNear(p, rotate(heading, m_offCos, -m_offSin), d)) return false;
+        dir = rotate(d, m_offCos, m_offSin);
+        return true;
+    }
+
+    /// Would a point q heading along t come within r of a line of "the same family"?
+    /// Same family = tangent within 45° (mod π); where only one family is wanted,
+    /// every family-0 sample counts for family 0, so mid-tones never cross.
+    bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
+        return m_grid.anyWithin(q, r, [&](const Sample &s) { return blocks(s, q, t, r, stroke, arc, singleTone); });
+    }
+
+    /// Sample s keeps q (heading t, own d_test r) away: the test of tooClose().
+    bool blocks(const Sample &s, const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
+        const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
+        if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
+        // The larger of the two points' d_test: measureHatches() takes the smaller at
+        // either end, so the tracer is never the more lenient where tone changes.
+        const double rr = std::max(r, s.dTest);
+        if ((s.p - q).squaredNorm() >= rr * rr) return false;
+        const double selfSkip = 2.0 * rr;
+        if (s.stroke == stroke && std::abs(s.arc - arc) < selfSkip) return false;
+        return sameDirection || s.family == 0 || s.family == m_family;
+    }
+
+    /// tooClose() for a seed (no stroke of its own). Seeds beside a parent line come in
+    /// a row one step apart and are mostly rejected by the same neighbouring line, so
+    /// the last two samples that rejected one are tried first. The answer is the same
+    /// (some sample blocks or none does); cached samples are dropped whenever samples
+    /// are removed from the grid, so a cached sample is always still in it.
+    bool seedTooClose(const Vec2 &q, const Vec2 &t, double r, bool singleTone) {
+        for (int k = 0; k < m_nBlockers; ++k)
+            if (blocks(m_blockers[k], q, t, r, -1, 0.0, singleTone)) return true;
+        const Sample *hit = nullptr;
+        m_grid.anyWithin(q, r, [&](const Sample &s) {
+            if (!blocks(s, q, t, r, -1, 0.0, singleTone)) return false;
+            hit = &s;
+            return true;
+        });
+        if (!hit) return false;
+        m_blockers[1] = m_blockers[0];
+        m_blockers[0] = *hit;
+        m_nBlockers = std::min(m_nBlockers + 1, 2);
+        return true;
+    }
+
+    /// Where the tone asks for one family, or the two screen directions have folded
+    /// together (crossWeight 0), lines of the first family must not cross.
+    bool singleTone(int i) const {
+        return hatchFamilies(densityAt(i), m_style) < 2 || m_crossWeight[size_t(i)] <= 0.0f;
+    }
+
+    /// Heading for a seed with no parent line: continue the look of nearby lines
+    /// (family 1 crosses family 0), else the field's labelled direction.
+    bool scanHeading(const Vec2 &q, Vec2 &heading) const {
+        const int i = pixelIndex(q);
+        const double dSep = spacingAt(i);
+        // A same-family line within d_sep would reject any seed here: skip the wider search.
+        const double rNear = 0.98 * dSep;
+        if (m_grid.any(q, rNear, [&](const Sample &s) {
+                return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
+            }))
+            return false;
+        // The nearest line of the same family within 2 d_sep gives the heading; else
+        // the nearest of the other family (only looked for then).
+        const double r = 2.0 * dSep;
+        const Sample *best[2] = {m_grid.nearest(q, r, m_family, true), nullptr};
+        if (!best[0]) best[1] = m_grid.nearest(q, r, m_family, false);
+        const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)], &d1 = m_field.dir1[size_t(i)];
+        Vec2 label = Vec2(m_family == 0 ? d0.x() : d1.x(), m_family == 0 ? d0.y() : d1.y());
+        if (m_rotated) label = rotate(label, m_offCos, m_offSin);
+        if (best[0]) {
+            heading = best[0]->t;
+        } else if (best[1]) {
+            // Perpendicular (on screen) to the other family's line; direction() then
+            // snaps to whichever field direction is closer to that.
+            heading = Vec2(-best[1]->t.y(), best[1]->t.x());
+        } else {
+            heading = label;
+        }
+        Vec2 dir;
+        if (!direction(q, heading, dir)) return false;
+        heading = dir;
+        return true;
+    }
+
+    bool trySeed(const Vec2 &q, const Vec2 &heading) {
+        drawThreshold();
+        if (!eligible(q)) return false;
+        const int i = pixelIndex(q);
+        // Slightly under d_sep: a seed placed at exactly d_sep from its parent must not
+        // be rejected by its own parent through rounding.
+        const double clearance = m_seedClearance * spacingAt(i);
+        const bool single = singleTone(i);
+        // While only first-family lines exist, single tone blocks on every line near
+        // whatever the seed's direction: test that before the field lookup, which most
+        // seeds beside a parent line (rejected) would otherwise pay for.
+        const bool directionFree = single && m_firstFamilyOnly;
+        if (directionFree && seedTooClose(q, heading, clearance, true)) return false;
+        Vec2 dir;
+        if (!direction(q, heading, dir)) return false;
+        if (!directionFree && seedTooClose(q, dir, clearance, single)) return false;
+        return traceStroke(q, dir);
+    }
+
+    /// Jobard–Lefer propagation: seeds at ±d_sep beside each accepted line, lines in
+    /// creation order (FIFO), until no candidate is left.
+    void propagate() {
+        while (m_next < m_strokes.size()) {
+            const size_t parent = m_next++;
+            const std::vector<Vec2> pts = m_strokes[parent].points; // copy: m_strokes grows
+            const std::vector<Vec2> tans = m_tangents[parent];
+            for (size_t k = 0; k < pts.size(); ++k) {
+                const Vec2 nrm(-tans[k].y(), tans[k].x());
+                const int ip = pixelIndex(pts[k]);
+                if (ip < 0) continue;
+                for (int side = -1; side <= 1; side += 2) {
+                    double dist = spacingAt(ip);
+                    if (m_style.spacingJitter != 0.0)
+                        dist *= 1.0 + m_style.spacingJitter *
+                                          (random01(m_seed, uint32_t(parent), uint32_t(2 * k + (side > 0))) - 0.5);
+                    Vec2 q = pts[k] + side * dist * nrm;
+                    // Toward lighter tone the seed's own d_sep is larger; place it there.
+                    const int iq = pixelIndex(q);
+                    if (iq >= 0 && m_style.spacingJitter == 0.0) {
+                        const double dq = spacingAt(iq);
+                        if (dq > dist) q = pts[k] + side * dq * nrm;
+                    }
+                    trySeed(q, tans[k]);
+                }
+            }
+        }
+    }
+
+    /// Integrates from p along heading h (RK2 midpoint on the line field), appending
+    /// samples with arc lengths sign * (distance from the seed).
+    void extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
+        const int maxSteps = int(4.0 * (m_field.width + m_field.height) / kMinStepPx);
+        double arc = 0;
+        for (int it = 0; it < maxSteps; ++it) {
+            const int ip = pixelIndex(p);
+            if (ip < 0) break;
+            const double step = std::clamp(kStepRatio * spacingAt(ip), kMinStepPx, kMaxStepPx);
+            Vec2 v1, v2;
+            if (!direction(p, h, v1) || v1.dot(h) < kMaxTurnCos) break;
+            const Vec2 pm = p + 0.5 * step * v1;
+            const int im = pixelIndex(pm);
+            if (im < 0 || m_blocked[size_t(im)]) break;
+            if (!direction(pm, v1, v2) || v2.dot(h) < kMaxTurnCos) break; // sharp turn: near a singularity
+            const Vec2 q = p + step * v2;
+            if (!eligible(q)) break;
+            const int iq = pixelIndex(q);
+            const double r = kTestRatio * spacingAt(iq);
+            if (tooClose(q, v2, r, stroke, sign * (arc + step), singleTone(iq))) break;
+            arc += step;
+            Sample s{q, v2, sign * arc, stroke, m_family, r};
+            m_grid.add(s);
+            out.push_back(s);
+            p = q;
+            h = v2;
+        }
+    }
+
+    bool traceStroke(const Vec2 &seed, const Vec2 &dir) {
+        const int id = int(m_strokes.size());
+        const size_t before = m_grid.size();
+        Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
+        m_grid.add(s0);
+        std::vector<Sample> fwd, bwd;
+        extend(seed, dir, 1.0, id, fwd);
+        extend(seed, -dir, -1.0, id, bwd);
+        const double length = (fwd.empty() ? 0.0 : fwd.back().arc) - (bwd.empty() ? 0.0 : bwd.back().arc);
+        // Shortest stroke kept: the style's minLengthPx, and kStubLengthRatio times its
+        // mean d_sep (as measureHatches() takes it), so no dash much shorter than the
+        // spacing is wide stays; the room is left to seeds that make longer lines.
+        double meanDTest = s0.dTest;
+        for (const Sample &s : fwd) meanDTest += s.dTest;
+        for (const Sample &s : bwd) meanDTest += s.dTest;
+        meanDTest /= double(1 + fwd.size() + bwd.size());
+        const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
+        if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
+            while (m_grid.size() > before) m_grid.popBack();
+            m_nBlockers = 0; // they may have been among the removed samples
+            return false;
+        }
+        Stroke stroke;
+        stroke.kind = StrokeKind::Hatch;
+        stroke.family = m_family;
+        stroke.id = uint32_t(id);
+        std::vector<Vec2> tangents;
+        stroke.points.reserve(fwd.size() + bwd.size() + 1);
+        for (auto it = bwd.rbegin(); it != bwd.rend(); ++it) {
+            stroke.points.push_back(it->p);
+            tangents.push_back(-it->t); // backward samples carry the reversed heading
+        }
+        stroke.points.push_back(seed);
+        tangents.push_back(dir);
+        for (const Sample &s : fwd) {
+            stroke.points.push_back(s.p);
+            tangents.push_back(s.t);
+        }
+        m_strokes.push_back(std::move(stroke));
+        m_tangents.push_back(std::move(tangents));
+        return true;
+    }
+
+    void buildBlocked(const GBuffer &g) {
+        const int w = m_field.width, h = m_field.height;
+        std::vector<uint8_t> edge(size_t(w) * size_t(h), 0);
+        for (size_t i = 0; i < edge.size(); ++i) edge[i] = (g.faceId[i] < 0 || !m_field.valid[i]) ? 1 : 0;
+        auto jump = [&](size_t a, size_t b) {
+            if (g.faceId[a] < 0 || g.faceId[b] < 0) return false;
+            const double da = g.depth[a], db = g.depth[b];
+            const double rel = std::abs(da - db) / std::max(1e-12, std::min(std::abs(da), std::abs(db)));
+            return rel > kDepthJump || (rel > kDepthJumpWithNormal && g.normal(a).dot(g.normal(b)) < kNormalJumpCos);
+        };
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t i = size_t(y) * size_t(w) + size_t(x);
+                if (x + 1 < w && jump(i, i + 1)) edge[i] = edge[i + 1] = 1;
+                if (y + 1 < h && jump(i, i + size_t(w))) edge[i] = edge[i + size_t(w)] = 1;
+            }
+        // One pixel of guard band (8-neighbourhood) keeps stroke centres a pixel away
+        // from the background, so a stroke's width stays on the object.
+        // Separable: a horizontal then a vertical 3-tap maximum; the image border counts as edge.
+        std::vector<uint8_t> rows(edge.size(), 0);
+        parallelFor(0, h, [&](int64_t y) {
+            const uint8_t *e = &edge[size_t(y) * size_t(w)];
+            uint8_t *o = &rows[size_t(y) * size_t(w)];
+            for (int x = 0; x < w; ++x)
+                o[x] = uint8_t((x == 0 || e[x - 1]) | e[x] | (x + 1 == w || e[x + 1]));
+        }, 8);
+        m_blocked.assign(edge.size(), 0);
+        parallelFor(0, h, [&](int64_t y) {
+            const uint8_t *up = y > 0 ? &rows[size_t(y - 1) * size_t(w)] : nullptr;
+            const uint8_t *mid = &rows[size_t(y) * size_t(w)];
+            const uint8_t *down = y + 1 < h ? &rows[size_t(y + 1) * size_t(w)] : nullptr;
+            uint8_t *o = &m_blocked[size_t(y) * size_t(w)];
+            for (int x = 0; x < w; ++x) o[x] = uint8_t((!up || up[x]) | mid[x] | (!down || down[x]));
+        }, 8);
+    }
+
+    const ScreenField &m_field;
+    const std::vector<float> &m_density;
+    const styles::HatchStyle &m_style;
+    uint32_t m_seed;
+    SampleGrid m_grid;
+    std::vector<uint8_t> m_blocked;
+    std::vector<float> m_crossWeight; // crossWeight() per pixel
+    std::vector<double> m_spacing[2]; // familySpacingPx() per family and pixel (double, as measured)
+    std::vector<Disc> m_discs;
+    std::vector<uint8_t> m_nearDisc;
+    double m_offCos = 1, m_offSin = 0;
+    bool m_rotated = false;
+    int m_family = 0;
+    bool m_firstFamilyOnly = true; // no line of the second family traced yet
+    Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)
+    int m_nBlockers = 0;
+    double m_seedClearance = kSeedClearance;
+    double m_minLengthRatio = kStubLengthRatio; // shortest stroke kept, in d_sep
+    double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
+    uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
+    std::vector<Stroke> m_strokes;
+    std::vector<std::vector<Vec2>> m_tangents;
+    size_t m_next = 0;
+};
+
+/// Width profile and optional wobble of one stroke; randomness from (seed, id) only.
+void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed) {
+    const size_t n = stroke.points.size();
+    std::vector<double> arc(n, 0.0);
+    for (size_t k = 1; k < n; ++k) arc[k] = arc[k - 1] + (stroke.points[k] - stroke.points[k - 1]).norm();
+    const double length = arc.back();
+    // The taper is a share of the stroke's length, but never longer than
+    // kMaxTaperWidths line widths: where many long strokes end together (along a
+    // silhouette, a tone edge, a fold) long thin ends would add up to a light band.
+    const double taperFrac = length > 0 ? std::min(std::clamp(style.taper, 0.0, 0.5),
+                                                   kMaxTaperWidths * style.strokeWidthPx / length)
+                                        : 0.0;
+    const double taperLen = taperFrac * length;
+    const double ph[4] = {2 * M_PI * random01(seed, stroke.id, 0), 2 * M_PI * random01(seed, stroke.id, 1),
+                          2 * M_PI * random01(seed, stroke.id, 2), 2 * M_PI * random01(seed, stroke.id, 3)};
+    // Two incommensurate sines: smooth, never periodic over a stroke, bounded by 1.
+    auto noise = [&](double s, double l1, double l2, double a, double b) {
+        return 0.6 * std::sin(2 * M_PI * s / l1 + a) + 0.4 * std::sin(2 * M_PI * s / l2 + b);
+    };
+    // The tapered ends thin the stroke: over each end of length taperLen the
+    // smoothstep profile averages kTaperFloor + (1 − kTaperFloor) / 2, so the whole
+    // stroke averages 1 − taper (1 − kTaperFloor) of its peak. Dividing by that
+    // keeps the mean width at strokeWidthPx, the width the spacing formula assumes.
+    const double meanProfile = 1.0 - taperFrac * (1.0 - kTaperFloor);
+    stroke.widths.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        double profile = 1.0;
+        if (taperLen > 0) {
+            const double e = std::clamp(std::min(arc[k], length - arc[k]) / taperLen, 0.0, 1.0);
+            profile = (kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e)) / meanProfile;
+        }
+        const double pressure = 1.0 + style.pressureVariation * noise(arc[k], 61.0, 23.0, ph[0], ph[1]);
+        stroke.widths[k] = float(std::max(0.0, style.strokeWidthPx * profile * pressure));
+    }
+    if (style.jitterPx != 0.0 && n >= 2) {
+        std::vector<Vec2> moved(n);
+        for (size_t k = 0; k < n; ++k) {
+            const Vec2 t = stroke.points[std::min(k + 1, n - 1)] - stroke.points[k > 0 ? k - 1 : 0];
+            const double tl = t.norm();
+            const Vec2 nrm = tl > 0 ? Vec2(-t.y() / tl, t.x() / tl) : Vec2::Zero();
+            moved[k] = stroke.points[k] + style.jitterPx * noise(arc[k], 41.0, 15.0, ph[2], ph[3]) * nrm;
+        }
+        stroke.points = std::move(moved);
+    }
+}
+
+} // namespace
+
+int hatchFamilies(double density, const styles::HatchStyle &style) {
+    if (!(density >= style.highlightDensity) || !(density > 0)) return 0;
+    return density >= style.crossDensity ? 2 : 1;
+}
+
+double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &style) {
+    const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
+    if (!(density > 0)) return hi;
+    const double rho = std::min(density, 1.0);
+    // One family covers w/s; two crossing families cover 1 − (1 − w/s)².
+    const double perFamily = nFamilies >= 2 ? 1.0 - std::sqrt(1.0 - rho) : rho;
+    if (!(perFamily > 0)) return hi;
+    return std::clamp(style.strokeWidthPx / perFamily, lo, hi);
+}
+
+double maxHatchDensity(const styles::HatchStyle &style) {
+    if (!(style.strokeWidthPx > 0) || !(style.minSpacingPx > 0)) return 0.0;
+    const double perFamily = std::min(1.0, style.strokeWidthPx / style.minSpacingPx);
+    const bool cross = style.crossDensity <= 1.0;
+    return cross ? 1.0 - (1.0 - perFamily) * (1.0 - perFamily) : perFamily;
+}
+
+double crossWeight(const ScreenField &field, size_t pixel) {
+    static const double c0 = std::cos(kCrossCollapseDeg * M_PI / 180.0),
+                        c1 = std::cos((kCrossCollapseDeg + kCrossCollapseBandDeg) * M_PI / 180.0);
+    const Eigen::Vector2f &d0 = field.dir0[pixel], &d1 = field.dir1[pixel];
+    const double c = std::abs(double(d0.dot(d1)));
+    const double t = std::clamp((c0 - c) / (c0 - c1), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+std::array<double, 2> familyCoverage(double density, const styles::HatchStyle &style, double crossWeight) {
+    const int families = hatchFamilies(density, style);
+    if (families == 0) return {0.0, 0.0};
+    const double rho = std::min(density, 1.0);
+    if (families == 1 || !(crossWeight > 0)) return {rho, 0.0};
+    const double t = std::clamp((rho - style.crossDensity) / kCrossFeatherBand, 0.0, 1.0);
+    const double b = std::min(crossWeight, 1.0) * t * t * (3.0 - 2.0 * t) * (1.0 - std::sqrt(1.0 - rho));
+    return {1.0 - (1.0 - rho) / (1.0 - b), b};
+}
+
+double familySpacingPx(double density, int family, const styles::HatchStyle &style, double crossWeight) {
+    return spacingOfCoverage(familyCoverage(density, style, crossWeight)[family == 0 ? 0 : 1], style);
+}
+
+double localSpacingPx(double density, const styles::HatchStyle &style) {
+    return familySpacingPx(density, 0, style);
+}
+
+StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
+                        const GBuffer &gbuffer, const styles::HatchStyle &style, uint32_t seed,
+                        HatchReport *report) {
+    ROSY_CHECK_EQ(field.width, gbuffer.width);
+    ROSY_CHECK_EQ(field.height, gbuffer.height);
+    ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
+    ROSY_CHECK(style.strokeWidthPx > 0 && style.minSpacingPx > 0);
+    StrokeList out;
+    out.width = field.width;
+    out.height = field.height;
+    if (field.nPixels() > 0) {
+        Hatcher hatcher(field, targetDensity, gbuffer, style, seed);
+        hatcher.traceFamily(0);
+        hatcher.traceFamily(1);
+        hatcher.fillHoles();
+        hatcher.relabelCrossings();
+        out.strokes = hatcher.takeStrokes();
+        // Each stroke's finish depends only on itself and (seed, id): safe in parallel.
+        parallelFor(0, int64_t(out.strokes.size()),
+                    [&](int64_t k) { finishStroke(out.strokes[size_t(k)], style, seed); }, 64);
+    }
+    if (report) *report = measureHatches(out, field, targetDensity, style);
+    return out;
+}
+
+HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
+                           const std::vector<float> &targetDensity,
+                           const styles::HatchStyle &style, double tolerance) {
+    ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
+    HatchReport r;
+    std::vector<int> hatch;
+    for (size_t k = 0; k < list.strokes.size(); ++k) {
+        const Stroke &s = list.strokes[k];
+        if (s.kind != StrokeKind::Hatch || s.points.size() < 2) continue;
+        hatch.push_back(int(k));
+        ++r.strokes;
+        (s.family == 1 ? r.strokesFamily1 : r.strokesFamily0)++;
+        for (size_t i = 1; i < s.points.size(); ++i) r.inkLengthPx += (s.points[i] - s.points[i - 1]).norm();
+    }
+    if (hatch.empty() || field.nPixels() == 0) return r;
+
+    // The local spacing is the first family's d_sep there (the densest hatching the
+    // tone asks for): strokes carry a family label for their layer, but a line can
+    // change layer after tracing (relabelled crossings), so the measure does not
+    // depend on which family traced it.
+    auto spacingAt = [&](const Vec2 &p) {
+        const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
+        const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
+        const size_t i = size_t(field.index(x, y));
+        const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+        return familySpacingPx(clampDensity(targetDensity[i]), 0, style, w);
+    };
+    auto dTestAt = [&](const Vec2 &p) { return kTestRatio * spacingAt(p); };
+    // The second family's own d_test: its lines are traced at that spacing, so only
+    // first-family lines that were relabelled (relabelCrossings) can lie closer.
+    auto dTest1At = [&](const Vec2 &p) {
+        const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
+        const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
+        const size_t i = size_t(field.index(x, y));
+        const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+        return kTestRatio * familySpacingPx(clampDensity(targetDensity[i]), 1, style, w);
+    };
+
+    // Stubs: strokes shorter than kStubLengthRatio local spacings.
+    for (int k : hatch) {
+        const Stroke &s = list.strokes[size_t(k)];
+        double length = 0.0, spacing = 0.0;
+        for (size_t i = 0; i < s.points.size(); ++i) {
+            if (i > 0) length += (s.points[i] - s.points[i - 1]).norm();
+            spacing += spacingAt(s.points[i]);
+        }
+        spacing /= double(s.points.size());
+        if (length < kStubLengthRatio * spacing) ++r.stubs;
+    }
+    r.stubFraction = double(r.stubs) / double(hatch.size());
+
+    // Segment grid, independent of the tracer's sample grid: every segment is entered
+    // in each cell its bounding box touches.
+    const double cell = std::max(2.0, style.minSpacingPx);
+    const int nx = std::max(1, int(std::ceil(field.width / cell))), ny = std::max(1, int(std::ceil(field.height / cell)));
+    std::vector<std::vector<std::pair<int, int>>> cells(size_t(nx) * size_t(ny)); // (stroke, segment)
+    auto cellRange = [&](double lo, double hi, int n) {
+        return std::make_pair(std::clamp(int(std::floor(lo / cell)), 0, n - 1), std::clamp(int(std::floor(hi / cell)), 0, n - 1));
+    };
+    for (int k : hatch) {
+        const auto &pts = list.strokes[size_t(k)].points;
+        for (size_t i = 0; i + 1 < pts.size(); ++i) {
+            auto [x0, x1] = cellRange(std::min(pts[i].x(), pts[i + 1].x()), std::max(pts[i].x(), pts[i + 1].x()), nx);
+            auto [y0, y1] = cellRange(std::min(pts[i].y(), pts[i + 1].y()), std::max(pts[i].y(), pts[i + 1].y()), ny);
+            for (int cy = y0; cy <= y1; ++cy)
+                for (int cx = x0; cx <= x1; ++cx) cells[size_t(cy) * size_t(nx) + size_t(cx)].push_back({k, int(i)});
+        }
+    }
+
+    // Per stroke: the partners it violates spacing with, and whether it enters a disc.
+    const std::vector<Disc> discs = singularityDiscs(field, targetDensity, style, 1.0 - tolerance);
+    std::vector<std::vector<int>> partners(hatch.size());
+    std::vector<uint8_t> nearSing(hatch.size(), 0);
+    std::vector<double> crossLength(hatch.size(), 0.0), overdenseLength(hatch.size(), 0.0);
+    parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
+        const int k = hatch[size_t(h)];
+        const Stroke &a = list.strokes[size_t(k)];
+        const auto &pts = a.points;
+        std::vector<int> &mine = partners[size_t(h)];
+        for (size_t i = 0; i < pts.size(); ++i) {
+            const Vec2 ta = (pts[std::min(i + 1, pts.size() - 1)] - pts[i > 0 ? i - 1 : 0]).normalized();
+            const double rA = dTestAt(pts[i]);
+            const double r1A = a.family == 1 ? dTest1At(pts[i]) : 0.0;
+            const double reach = std::max(rA, r1A);
+            const double weight = 0.5 * ((i > 0 ? (pts[i] - pts[i - 1]).norm() : 0.0) +
+                                         (i + 1 < pts.size() ? (pts[i + 1] - pts[i]).norm() : 0.0));
+            if (a.family == 1) crossLength[size_t(h)] += weight;
+            bool overdense = false;
+            auto [x0, x1] = cellRange(pts[i].x() - reach, pts[i].x() + reach, nx);
+            auto [y0, y1] = cellRange(pts[i].y() - reach, pts[i].y() + reach, ny);
+            for (int cy = y0; cy <= y1; ++cy)
+                for (int cx = x0; cx <= x1; ++cx)
+                    for (const auto &[kb, j] : cells[size_t(cy) * size_t(nx) + size_t(cx)]) {
+                        if (kb == k) continue;
+                        const Stroke &b = list.strokes[size_t(kb)];
+                        if (b.family != a.family) continue;
+                        const Vec2 &b0 = b.points[size_t(j)], &b1 = b.points[size_t(j) + 1];
+                        const Vec2 tb = (b1 - b0).normalized();
+                        if (std::abs(ta.dot(tb)) < kCos45) continue;
+                        const double dist = pointSegmentDistance(pts[i], b0, b1);
+                        // Closer than d_test wherever it is evaluated (tone may differ
+                        // between the two points), less the polyline chord tolerance.
+                        const double r = (1.0 - tolerance) * std::min(rA, dTestAt(0.5 * (b0 + b1)));
+                        if (dist < r) mine.push_back(kb);
+                        if (a.family == 1 && !overdense &&
+                            dist < (1.0 - tolerance) * std::min(r1A, dTest1At(0.5 * (b0 + b1))))
+                            overdense = true;
+                    }
+            if (overdense) overdenseLength[size_t(h)] += weight;
+        }
+        for (const Disc &d : discs)
+            for (size_t i = 0; i + 1 < pts.size() && !nearSing[size_t(h)]; ++i)
+                if (pointSegmentDistance(d.centre, pts[i], pts[i + 1]) < d.radius) nearSing[size_t(h)] = 1;
+    }, 16);
+
+    std::vector<std::pair<int, int>> pairs;
+    for (size_t h = 0; h < hatch.size(); ++h) {
+        const int k = hatch[h];
+        for (int kb : partners[h]) pairs.emplace_back(std::min(k, kb), std::max(k, kb));
+        r.strokesNearSingularities += nearSing[h];
+    }
+    double cross = 0.0, over = 0.0;
+    for (size_t h = 0; h < hatch.size(); ++h) {
+        cross += crossLength[h];
+        over += overdenseLength[h];
+    }
+    r.crossOverdenseFraction = cross > 0.0 ? over / cross : 0.0;
+    std::sort(pairs.begin(), pairs.end());
+    r.minSpacingViolations = int(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
+    return r;
+}
+
+} // namespace rosy::renderer
