@@ -204,6 +204,41 @@ Mesh makeCube(int n) {
     return Mesh::fromTriangles(std::move(positions), std::move(faces), "cube");
 }
 
+Mesh makeRoundedCubePair(int n) {
+    requireAtLeast("makeRoundedCubePair", "n", n, 2);
+    // Signed distance to a box of half-side h, edges rounded with radius r, centred at c.
+    auto roundedBox = [](const Vec3 &p, const Vec3 &c, double h, double r) {
+        const Vec3 q = (p - c).cwiseAbs() - Vec3::Constant(h - r);
+        return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0) - r;
+    };
+    // Polynomial smooth minimum (blend radius k): the joint gets a fillet.
+    auto smoothUnion = [](double a, double b, double k) {
+        const double h = std::clamp(0.5 + 0.5 * (b - a) / k, 0.0, 1.0);
+        return b + (a - b) * h - k * h * (1 - h);
+    };
+    const Vec3 big(0, 0, 0), small(0, 0, 1.5);
+    auto sdf = [&](const Vec3 &p) {
+        return smoothUnion(roundedBox(p, big, 1.0, 0.25), roundedBox(p, small, 0.6, 0.2), 0.15);
+    };
+    const Vec3 centre(0, 0, 0.95); // inside both cubes (the small one reaches down to z = 0.9)
+    // A cube sphere: the six faces of makeCube(n), each vertex a direction from the centre.
+    Mesh cube = makeCube(n);
+    std::vector<Vec3> positions;
+    positions.reserve(cube.positions().size());
+    for (const Vec3 &c : cube.positions()) {
+        const Vec3 dir = c.normalized();
+        // Inside at t = 0, outside at t = 4 (the solid lies within distance 2.2 of the
+        // centre); bisection to the crossing, which is the only one along the ray.
+        double lo = 0, hi = 4;
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (sdf(centre + mid * dir) < 0 ? lo : hi) = mid;
+        }
+        positions.push_back(centre + 0.5 * (lo + hi) * dir);
+    }
+    return Mesh::fromTriangles(std::move(positions), cube.faces(), "rounded-cube-pair");
+}
+
 Mesh makePlatonic(Platonic solid, int subdivisions) {
     requireAtLeast("makePlatonic", "subdivisions", subdivisions, 0);
     std::vector<Vec3> tetra = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};

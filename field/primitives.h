@@ -21,6 +21,15 @@ Mesh makeGenus2(int resolution = 48);
 long long genus2FaceCount(int resolution);
 /// Axis-aligned cube [−1, 1]³ with each face an n × n grid of quads split in two.
 Mesh makeCube(int n = 1);
+/// Two cubes with rounded corners joined (Palacios & Zhang 2007, Figure 4): a cube
+/// of half-side 1 (edges rounded with radius 0.25) with a smaller one (half-side
+/// 0.6, radius 0.2) standing on the middle of its top face, the joint filleted
+/// (smooth union, blend radius 0.15); z from -1 to 2.1. The vertices of a cube
+/// sphere (six n × n grids, normalised) are moved along their directions from a
+/// centre inside both cubes onto the surface (the union of two convex solids
+/// that both contain the centre is star-shaped about it), so the mesh is closed,
+/// oriented outward, genus 0, with 12 n² triangles; flat parts stay flat.
+Mesh makeRoundedCubePair(int n = 32);
 
 enum class Platonic { Tetrahedron, Cube, Octahedron, Dodecahedron, Icosahedron };
 /// A Platonic solid inscribed in the unit sphere; each face is split into triangles

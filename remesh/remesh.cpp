@@ -132,8 +132,10 @@ Vec3 perpendicularUnit(const Vec3 &n) {
 /// The finest level: the input's vertices with the field's first member direction,
 /// midpoint-subdivided (in the faces' planes, so the surface is unchanged) until the
 /// mean edge is at most kMaxEdge L, so that no edge jumps over a lattice point.
-/// With `pinTo`, the corners of each singular face (and the subdivision vertices
-/// between two corners of one such face) keep the lattice point at the singularity.
+/// With `pinFaces` (a singularity's face and position), the vertices closer than
+/// L / 2 to the singularity (on its side of the surface), and always the nearest
+/// one, keep the singular point as their lattice point: it is then the lattice
+/// point nearest to each of them, so they become one output vertex there.
 constexpr double kMaxEdge = 0.5;
 
 Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
@@ -151,10 +153,6 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         q -= L.n[v] * L.n[v].dot(q);
         L.q[v] = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(L.n[v]);
     }
-    std::vector<int> pinId(nV0, -1); // which singularity a vertex is pinned to
-    for (size_t k = 0; k < pinFaces.size(); ++k)
-        for (int v : mesh.face(pinFaces[k].first))
-            if (pinId[v] < 0) pinId[v] = int(k);
     std::vector<std::array<int, 3>> tris(mesh.faces().begin(), mesh.faces().end());
     auto meanEdge = [&] {
         double sum = 0;
@@ -192,7 +190,6 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             L.p.push_back(0.5 * (L.p[a] + L.p[b]));
             L.n.push_back(n);
             L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
-            pinId.push_back(pinId[a] >= 0 && pinId[a] == pinId[b] ? pinId[a] : -1);
             mid.emplace(key, id);
             return id;
         };
@@ -227,12 +224,30 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
     }
     L.o = L.p;
     L.pinned.assign(nV, 0);
-    for (int v = 0; v < nV; ++v)
-        if (pinId[v] >= 0) {
-            const Vec3 &target = pinFaces[pinId[v]].second;
-            L.pinned[v] = 1;
-            L.o[v] = target - L.n[v] * L.n[v].dot(target - L.p[v]);
+    // Pinning by distance, not by the singular face's corners: an input face larger
+    // than L would otherwise put vertices more than L apart on one lattice point
+    // (measured: worse near singularities with pinning than without, docs/remeshing.md).
+    for (const auto &[face, target] : pinFaces) {
+        const auto &tri = mesh.face(face);
+        const Vec3 fn = (mesh.position(tri[1]) - mesh.position(tri[0]))
+                            .cross(mesh.position(tri[2]) - mesh.position(tri[0]))
+                            .normalized();
+        int nearest = -1;
+        double nearestD = std::numeric_limits<double>::infinity();
+        for (int v = 0; v < nV; ++v) {
+            if (L.n[v].dot(fn) < 0.5) continue; // the other side of a thin part
+            const double d = (L.p[v] - target).norm();
+            if (d < nearestD) nearestD = d, nearest = v;
+            if (d < 0.5 * lat.s && !L.pinned[v]) {
+                L.pinned[v] = 1;
+                L.o[v] = target - L.n[v] * L.n[v].dot(target - L.p[v]);
+            }
         }
+        if (nearest >= 0 && !L.pinned[nearest]) {
+            L.pinned[nearest] = 1;
+            L.o[nearest] = target - L.n[nearest] * L.n[nearest].dot(target - L.p[nearest]);
+        }
+    }
     return L;
 }
 

@@ -23,6 +23,7 @@ field::Mesh makePrimitive(const MeshDesc &m) {
     if (name == "torus") return field::makeTorus(P("major_radius"), P("minor_radius"), I("nu"), I("nv"));
     if (name == "genus2") return field::makeGenus2(I("resolution"));
     if (name == "cube") return field::makeCube(I("n"));
+    if (name == "rounded_cube_pair") return field::makeRoundedCubePair(I("n"));
     if (name == "tetrahedron") return field::makePlatonic(field::Platonic::Tetrahedron, I("subdivisions"));
     if (name == "octahedron") return field::makePlatonic(field::Platonic::Octahedron, I("subdivisions"));
     if (name == "dodecahedron") return field::makePlatonic(field::Platonic::Dodecahedron, I("subdivisions"));
@@ -112,7 +113,7 @@ long long primitiveFaceCount(const MeshDesc &m) {
     if (name == "icosphere" || name == "ellipsoid") return 20 * pow4(I("subdivisions"));
     if (name == "torus") return 2 * I("nu") * I("nv");
     if (name == "genus2") return field::genus2FaceCount(int(I("resolution")));
-    if (name == "cube") return 12 * I("n") * I("n");
+    if (name == "cube" || name == "rounded_cube_pair") return 12 * I("n") * I("n");
     if (name == "tetrahedron" || name == "octahedron" || name == "dodecahedron" || name == "icosahedron")
         return platonicFaces(name) * pow4(I("subdivisions"));
     if (name == "disk") return 6 * I("rings") * I("rings");

@@ -46,6 +46,7 @@ const std::vector<PrimitiveSpec> &primitiveSpecs() {
           {"nv", 32, 3, 4096, true}}},
         {"genus2", {{"resolution", 48, 16, 512, true}}},
         {"cube", {{"n", 8, 1, 1024, true}}},
+        {"rounded_cube_pair", {{"n", 32, 2, 1024, true}}},
         {"tetrahedron", {{"subdivisions", 0, 0, 8, true}}},
         {"octahedron", {{"subdivisions", 0, 0, 8, true}}},
         {"dodecahedron", {{"subdivisions", 0, 0, 8, true}}},
