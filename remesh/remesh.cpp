@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <set>
 #include <unordered_map>
@@ -487,6 +488,202 @@ void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, st
     repairs["valence2_dissolved_in_faces"] = dissolved;
 }
 
+/// All ways to cut polygon `poly` (an even number of corners) into quads by
+/// diagonals, appended to `out` (each a list of quads).
+void quadrangulations(const std::vector<int> &poly, std::vector<std::vector<std::vector<int>>> &out) {
+    const int m = int(poly.size());
+    if (m == 4) {
+        out.push_back({poly});
+        return;
+    }
+    // The quad on the side (poly[0], poly[m-1]) is (poly[0], poly[a], poly[b], poly[m-1]); the three
+    // pieces between its corners are either single sides or polygons of an even number of corners.
+    auto piece = [&](int i, int j) { // corners i..j
+        return std::vector<int>(poly.begin() + i, poly.begin() + j + 1);
+    };
+    for (int a = 1; a < m - 2; a += 2)
+        for (int b = a + 1; b < m - 1; b += 2) {
+            std::vector<std::vector<std::vector<int>>> parts[3];
+            const std::vector<int> pieces[3] = {piece(0, a), piece(a, b), piece(b, m - 1)};
+            bool ok = true;
+            for (int k = 0; k < 3 && ok; ++k) {
+                if (pieces[k].size() == 2) parts[k].push_back({});
+                else if (pieces[k].size() % 2 == 0) quadrangulations(pieces[k], parts[k]);
+                else ok = false;
+            }
+            if (!ok) continue;
+            for (const auto &x : parts[0])
+                for (const auto &y : parts[1])
+                    for (const auto &z : parts[2]) {
+                        std::vector<std::vector<int>> quads{{poly[0], poly[a], poly[b], poly[m - 1]}};
+                        quads.insert(quads.end(), x.begin(), x.end());
+                        quads.insert(quads.end(), y.begin(), y.end());
+                        quads.insert(quads.end(), z.begin(), z.end());
+                        out.push_back(std::move(quads));
+                    }
+        }
+}
+
+/// Dislocation pairs. The position field leaves dislocations, each a triangle
+/// with a valence-5 corner where the lattice gains a row; two of opposite sign a
+/// quad or two apart cancel. For each triangle, the triangles reachable through
+/// at most kMaxQuads quads are tried: the union of the chain of faces (a polygon
+/// of an even number of corners, no vertex inside) is cut into quads again, in
+/// the way that lowers Σ (valence − 4)² over its corners the most, counting each
+/// triangle removed as 1 and keeping every new corner convex and between
+/// kMinCorner and 180° − kMinCorner about the union's normal. Greedy in face
+/// order (the same result for any thread count); the faces replaced cover the
+/// same polygon, so the mesh stays closed, manifold and oriented. N = 4 only.
+void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
+                            std::map<std::string, int> &repairs) {
+    constexpr double kMinCorner = 35.0 * std::numbers::pi / 180.0;
+    constexpr int kMaxQuads = 3;
+    const int nV = int(positions.size());
+    auto key = [](int a, int b) { return (long long)a << 32 | (long long)(unsigned)b; };
+    std::unordered_map<long long, int> faceOfEdge; // directed edge -> face
+    std::vector<std::set<int>> nb(nV);
+    std::vector<char> alive(polygons.size(), 1);
+    auto link = [&](int f, bool add) {
+        const auto &P = polygons[f];
+        for (size_t k = 0; k < P.size(); ++k) {
+            const int a = P[k], b = P[(k + 1) % P.size()];
+            if (add) {
+                faceOfEdge[key(a, b)] = f;
+                nb[a].insert(b);
+                nb[b].insert(a);
+            } else {
+                faceOfEdge.erase(key(a, b));
+                if (!faceOfEdge.count(key(b, a))) nb[a].erase(b), nb[b].erase(a);
+            }
+        }
+    };
+    for (int f = 0; f < int(polygons.size()); ++f) link(f, true);
+    // Irregular vertices first, then how far from 4 (a valence-6 is worse than a 5).
+    auto cost = [](int valence) { return (valence != 4 ? 1.0 : 0.0) + 0.01 * (valence - 4) * (valence - 4); };
+    auto goodQuad = [&](const std::vector<int> &P, const Vec3 &nrm) {
+        for (size_t k = 0; k < 4; ++k) {
+            const Vec3 &a = positions[P[(k + 3) % 4]], &b = positions[P[k]], &c = positions[P[(k + 1) % 4]];
+            const Vec3 e0 = a - b, e1 = c - b;
+            const double l = e0.norm() * e1.norm();
+            if (!(l > 0) || e1.cross(e0).dot(nrm) <= 0) return false;
+            const double ang = std::acos(std::clamp(e0.dot(e1) / l, -1.0, 1.0));
+            if (ang < kMinCorner || ang > std::numbers::pi - kMinCorner) return false;
+        }
+        return true;
+    };
+    // The boundary of a set of faces as one loop, or empty if it is not one simple
+    // loop through all their corners.
+    auto unionLoop = [&](const std::vector<int> &faces) {
+        std::map<int, int> next;
+        std::set<int> corners;
+        std::set<long long> inside;
+        for (int f : faces)
+            for (size_t k = 0; k < polygons[f].size(); ++k)
+                inside.insert(key(polygons[f][k], polygons[f][(k + 1) % polygons[f].size()]));
+        for (int f : faces)
+            for (size_t k = 0; k < polygons[f].size(); ++k) {
+                const int a = polygons[f][k], b = polygons[f][(k + 1) % polygons[f].size()];
+                corners.insert(a);
+                if (inside.count(key(b, a))) continue;
+                if (next.count(a)) return std::vector<int>{};
+                next[a] = b;
+            }
+        if (next.size() != corners.size()) return std::vector<int>{};
+        std::vector<int> loop{next.begin()->first};
+        while (int(loop.size()) <= int(next.size())) {
+            const int b = next[loop.back()];
+            if (b == loop.front()) break;
+            loop.push_back(b);
+        }
+        if (loop.size() != next.size()) return std::vector<int>{};
+        return loop;
+    };
+    int cancelled = 0;
+    for (int t = 0; t < int(polygons.size()); ++t) {
+        if (!alive[t] || polygons[t].size() != 3) continue;
+        // Chains t, q1, .., qk, t2 through quads (breadth first, in edge order).
+        std::vector<std::vector<int>> chains{{t}}, found;
+        for (size_t c = 0; c < chains.size(); ++c) {
+            const std::vector<int> chain = chains[c];
+            const std::vector<int> &last = polygons[chain.back()];
+            for (size_t k = 0; k < last.size(); ++k) {
+                const auto it = faceOfEdge.find(key(last[(k + 1) % last.size()], last[k]));
+                if (it == faceOfEdge.end() || !alive[it->second]) continue;
+                const int g = it->second;
+                if (std::find(chain.begin(), chain.end(), g) != chain.end()) continue;
+                std::vector<int> longer = chain;
+                longer.push_back(g);
+                if (polygons[g].size() == 3 && chain.size() >= 2) found.push_back(longer);
+                else if (polygons[g].size() == 4 && int(chain.size()) <= kMaxQuads) chains.push_back(longer);
+            }
+        }
+        double bestGain = 0;
+        std::vector<int> bestChain;
+        std::vector<std::vector<int>> bestQuads;
+        for (const std::vector<int> &chain : found) {
+            const std::vector<int> loop = unionLoop(chain);
+            if (loop.size() < 6 || loop.size() % 2) continue;
+            // Valences without the union's inner edges, and the cost before.
+            std::map<int, int> outer;
+            double before = 0;
+            for (int v : loop) {
+                int inner = 0;
+                for (int u : nb[v])
+                    if (faceOfEdge.count(key(v, u)) && faceOfEdge.count(key(u, v)) &&
+                        std::find(chain.begin(), chain.end(), faceOfEdge[key(v, u)]) != chain.end() &&
+                        std::find(chain.begin(), chain.end(), faceOfEdge[key(u, v)]) != chain.end())
+                        ++inner;
+                outer[v] = int(nb[v].size()) - inner;
+                before += cost(int(nb[v].size()));
+            }
+            Vec3 nrm = Vec3::Zero();
+            for (size_t i = 0; i < loop.size(); ++i)
+                nrm += positions[loop[i]].cross(positions[loop[(i + 1) % loop.size()]]);
+            if (!(nrm.norm() > 0)) continue;
+            nrm.normalize();
+            std::vector<std::vector<std::vector<int>>> options;
+            quadrangulations(loop, options);
+            for (const auto &quads : options) {
+                std::map<int, int> added;
+                bool ok = true;
+                for (const auto &q : quads) {
+                    if (!goodQuad(q, nrm)) ok = false;
+                    for (int k = 0; k < 4 && ok; ++k) {
+                        const int a = q[k], b = q[(k + 1) % 4];
+                        // a side of q that is not a side of the loop is a diagonal (counted from both quads)
+                        const size_t ia = size_t(std::find(loop.begin(), loop.end(), a) - loop.begin());
+                        if (loop[(ia + 1) % loop.size()] == b) continue;
+                        if (nb[a].count(b) && outer[a] == int(nb[a].size())) ok = false; // already an outer edge
+                        ++added[a];
+                    }
+                }
+                if (!ok) continue;
+                double after = 0;
+                for (int v : loop) after += cost(outer[v] + added[v]);
+                if (before - after > std::max(bestGain, 0.5)) bestGain = before - after, bestChain = chain, bestQuads = quads;
+            }
+        }
+        if (bestChain.empty()) continue;
+        for (int f : bestChain) link(f, false);
+        for (size_t k = 0; k < bestChain.size(); ++k) {
+            const int f = bestChain[k];
+            if (k < bestQuads.size()) {
+                polygons[f] = bestQuads[k];
+                link(f, true);
+            } else {
+                alive[f] = 0;
+                polygons[f].clear();
+            }
+        }
+        ++cancelled;
+    }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (alive[f]) kept.push_back(std::move(polygons[f]));
+    polygons.swap(kept);
+    repairs["dislocation_pairs_cancelled"] = cancelled;
+}
+
 /// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
 /// its neighbours, then back onto the input surface.
 void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const AabbTree &tree,
@@ -744,6 +941,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["faces_split"] = split;
     mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
     dissolveValence2(polygons, int(positions.size()), result.repairs);
+    if (result.nSym == 4) {
+        const auto tc = Clock::now();
+        cancelDislocationPairs(polygons, positions, result.repairs);
+        result.timingsMs["dislocation_pairs"] = msSince(tc);
+    }
     relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs);
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
