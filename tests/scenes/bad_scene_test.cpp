@@ -307,7 +307,8 @@ TEST(BadScene, PrimitiveFaceCountsAreExactAndTheLimitIsCheckedBeforeBuilding) {
         "mesh: {primitive: cube, n: 3}",                 "mesh: {primitive: tetrahedron, subdivisions: 2}",
         "mesh: {primitive: octahedron, subdivisions: 1}", "mesh: {primitive: dodecahedron, subdivisions: 1}",
         "mesh: {primitive: icosahedron}",                "mesh: {primitive: disk, rings: 5}",
-        "mesh: {primitive: grid, n: 6}",                 "mesh: {primitive: cylinder, n_around: 9, n_along: 4}"};
+        "mesh: {primitive: grid, n: 6}",                 "mesh: {primitive: cylinder, n_around: 9, n_along: 4}",
+        "mesh: {primitive: rounded_cube_pair, n: 3}"};
     ASSERT_EQ(scenes.size(), primitiveNames().size());
     for (const std::string &text : scenes) {
         SCOPED_TRACE(text);
