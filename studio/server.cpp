@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <chrono>
 #include <random>
 
@@ -25,6 +26,9 @@
 
 namespace rosy::studio {
 namespace {
+
+/// /api/mesh is sent in pieces of this size (chunked transfer encoding).
+constexpr size_t kMeshChunkBytes = 256 * 1024;
 
 std::string randomToken() {
     std::random_device rd; // getrandom() on Linux
@@ -223,7 +227,19 @@ StudioServer::StudioServer(Studio &studio, ServerOptions options)
     const char *bin = "application/octet-stream";
     const char *js = "application/json";
     srv.Get("/api/state", guarded([st, js](const auto &, auto &res) { res.set_content(st->stateJson(), js); }));
-    srv.Get("/api/mesh", guarded([st, bin](const auto &, auto &res) { res.set_content(st->meshBinary(), bin); }));
+    // The mesh in pieces (chunked transfer), so the page draws it as it arrives.
+    srv.Get("/api/mesh", guarded([st, bin](const auto &, auto &res) {
+        auto bytes = std::make_shared<const std::string>(st->meshBinary());
+        res.set_chunked_content_provider(bin, [bytes](size_t offset, httplib::DataSink &sink) {
+            if (offset < bytes->size()) {
+                const size_t n = std::min(kMeshChunkBytes, bytes->size() - offset);
+                if (!sink.write(bytes->data() + offset, n)) return false;
+            }
+            if (offset + kMeshChunkBytes >= bytes->size()) sink.done();
+            return true;
+        });
+    }));
+    srv.Post("/api/pick", guarded([st, js](const auto &req, auto &res) { res.set_content(st->pick(req.body), js); }));
     srv.Get("/api/field", guarded([st, bin](const auto &, auto &res) { res.set_content(st->fieldBinary(), bin); }));
     srv.Get("/api/singularities",
             guarded([st, js](const auto &, auto &res) { res.set_content(st->singularitiesJson(), js); }));

@@ -9,6 +9,7 @@
 #include "core/parallel.h"
 #include "field/singularities.h"
 #include "renderer/output/image.h"
+#include "renderer/view/embree_scene.h"
 
 #include <nlohmann/json.hpp>
 
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <future>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -86,9 +88,10 @@ void putF32(std::string &out, double v) {
     out.append(reinterpret_cast<const char *>(&f), 4);
 }
 
-std::string normalBytes(const field::TangentFrames &frames); // below
-void updateDirections(const field::TangentFrames &frames, const field::RosyField &f, std::vector<float> &dirs,
-                      const field::RosyField *previous); // below
+std::string normalBytes(const field::TangentFrames &frames, const std::vector<int> &shown); // below
+void updateDirections(const field::TangentFrames &frames, const std::vector<int> &shown, const field::RosyField &f,
+                      std::vector<float> &dirs, const field::RosyField *previous); // below
+std::string meshBytes(const field::Mesh &mesh, const DisplayMesh &display); // below
 
 int elementIndex(const json &j, size_t count) {
     const int i = integer(j, "index");
@@ -109,7 +112,7 @@ struct Studio::State {
     std::vector<Vec3> moveFrom;
     field::RosyField field;
     field::SingularityReport singularities;
-    /// f32 first member direction per vertex (the field response's first half).
+    /// f32 first member direction per display vertex (the field response's first half).
     std::vector<float> directions;
 };
 
@@ -119,7 +122,12 @@ Studio::Studio(const std::string &scenePath, const StudioOptions &options) : m_p
     scenes::PipelineOptions po;
     po.load = options.load;
     m_loaded = scenes::loadScene(desc, po);
-    m_normalBytes = normalBytes(*m_loaded.frames);
+    const field::Mesh &mesh = m_loaded.scene->mesh;
+    m_display = makeDisplayMesh(mesh, mesh.nFaces() > options.displayAbove ? options.displayFaces : mesh.nFaces());
+    if (decimated()) // picks on the display mesh go to the full surface: its rays, ready early
+        m_pickRaysBuilding = std::async(std::launch::async, [&mesh] { return std::make_unique<renderer::RayScene>(mesh); });
+    m_meshBytes = meshBytes(mesh, m_display);
+    m_normalBytes = normalBytes(*m_loaded.frames, m_display.fullVertex);
     auto state = std::make_unique<State>();
     state->block = scenes::fieldBlockOf(desc.field.spec, desc.field.edits);
     state->moveFrom.assign(state->block.edits.size(), Vec3::Constant(std::nan("")));
@@ -167,7 +175,8 @@ void Studio::rebuild(State &s) const {
     // Directions: only where the field changed from the state `s` was copied from.
     const field::RosyField previous = std::move(s.field);
     s.field = std::move(f);
-    updateDirections(frames, s.field, s.directions, previous.u.size() == s.field.u.size() ? &previous : nullptr);
+    updateDirections(frames, m_display.fullVertex, s.field, s.directions,
+                     previous.u.size() == s.field.u.size() ? &previous : nullptr);
 }
 
 void Studio::push(State next) {
@@ -286,7 +295,7 @@ std::string Studio::edit(const std::string &body) {
         // The same as rebuild() would do: the new edit applied to the current field.
         field::applyFieldEdits(frames, next.field, {next.block.edits.back()});
         next.singularities = field::findSingularities(frames, next.field);
-        updateDirections(frames, next.field, next.directions, &m_state->field);
+        updateDirections(frames, m_display.fullVertex, next.field, next.directions, &m_state->field);
     } else {
         rebuild(next);
     }
@@ -314,33 +323,36 @@ std::string Studio::redo() {
 
 namespace {
 
-json singularityList(const std::vector<field::Singularity> &sings) {
+json singularityList(const field::Mesh &mesh, const std::vector<field::Singularity> &sings) {
     json list = json::array();
     for (size_t i = 0; i < sings.size(); ++i) {
         const field::Singularity &s = sings[i];
         list.push_back({{"id", int(i)},
                         {"face", s.face},
                         {"position", vecJson(s.position)},
+                        {"normal", vecJson(s.face >= 0 ? mesh.faceNormal(s.face) : Vec3::Zero())},
                         {"index", s.index()},
                         {"index_numerator", s.indexNumerator}});
     }
     return list;
 }
 
-/// Unit world direction of each vertex's first member (zero where the field
-/// vanishes). With `previous` (the field the directions were computed for), only the
-/// vertices whose representation vector changed are recomputed: an edit changes a
-/// small region and leaves the rest bit for bit (field/editing.h).
-void updateDirections(const field::TangentFrames &frames, const field::RosyField &f, std::vector<float> &dirs,
-                      const field::RosyField *previous) {
-    const int nV = frames.mesh().nVertices();
-    const bool all = !previous || previous->nSym != f.nSym || dirs.size() != 3 * size_t(nV);
-    if (all) dirs.assign(3 * size_t(nV), 0.0f);
-    parallelFor(0, nV, [&](int64_t v) {
+/// Unit world direction of the first member at each shown vertex (`shown[i]` the
+/// full mesh's vertex of display vertex i; zero where the field vanishes). With
+/// `previous` (the field the directions were computed for), only the vertices whose
+/// representation vector changed are recomputed: an edit changes a small region and
+/// leaves the rest bit for bit (field/editing.h).
+void updateDirections(const field::TangentFrames &frames, const std::vector<int> &shown, const field::RosyField &f,
+                      std::vector<float> &dirs, const field::RosyField *previous) {
+    const int64_t nShown = int64_t(shown.size());
+    const bool all = !previous || previous->nSym != f.nSym || dirs.size() != 3 * size_t(nShown);
+    if (all) dirs.assign(3 * size_t(nShown), 0.0f);
+    parallelFor(0, nShown, [&](int64_t i) {
+        const int v = shown[i];
         if (!all && f.u[v] == previous->u[v]) return;
         Vec3 d = Vec3::Zero();
-        if (std::abs(f.u[v]) > 1e-12) d = frames.tangentOfAngle(int(v), field::memberAngle(f.u[v], f.nSym)).normalized();
-        for (int c = 0; c < 3; ++c) dirs[3 * v + c] = float(d[c]);
+        if (std::abs(f.u[v]) > 1e-12) d = frames.tangentOfAngle(v, field::memberAngle(f.u[v], f.nSym)).normalized();
+        for (int c = 0; c < 3; ++c) dirs[3 * i + c] = float(d[c]);
     });
 }
 
@@ -357,10 +369,29 @@ std::string fieldBytes(const field::RosyField &f, const std::vector<float> &dirs
     return out;
 }
 
-std::string normalBytes(const field::TangentFrames &frames) {
+std::string normalBytes(const field::TangentFrames &frames, const std::vector<int> &shown) {
     std::string out;
-    for (int v = 0; v < frames.mesh().nVertices(); ++v)
+    out.reserve(12 * shown.size());
+    for (int v : shown)
         for (int c = 0; c < 3; ++c) putF32(out, frames.normal(v)[c]);
+    return out;
+}
+
+std::string meshBytes(const field::Mesh &mesh, const DisplayMesh &display) {
+    const bool decimated = display.cellSize > 0.0;
+    const size_t nV = display.fullVertex.size(), nF = display.faces.size();
+    std::string out;
+    out.reserve(16 + 12 * nV + 12 * nF + (decimated ? 4 * nV : 0));
+    out += "RSM1";
+    putU32(out, uint32_t(nV));
+    putU32(out, uint32_t(nF));
+    putU32(out, decimated ? 1 : 0);
+    for (int v : display.fullVertex)
+        for (int c = 0; c < 3; ++c) putF32(out, mesh.position(v)[c]);
+    for (const field::Face &f : display.faces)
+        for (int c = 0; c < 3; ++c) putU32(out, uint32_t(f[c]));
+    if (decimated)
+        for (int v : display.fullVertex) putU32(out, uint32_t(v));
     return out;
 }
 
@@ -399,7 +430,7 @@ std::string Studio::stateJsonLocked() const {
         edits.push_back(ed);
     }
     j["edits"] = edits;
-    j["singularities"] = singularityList(s.singularities.singularities);
+    j["singularities"] = singularityList(scene.mesh, s.singularities.singularities);
     j["index_sum"] = double(s.singularities.indexNumeratorSum) / s.block.symmetry;
     j["boundary_index"] = s.singularities.boundaryIndex;
     j["can_undo"] = !m_undo.empty();
@@ -418,6 +449,10 @@ std::string Studio::stateJsonLocked() const {
     j["bounds"] = {{"min", vecJson(lo)}, {"max", vecJson(hi)}};
     j["vertices"] = scene.mesh.nVertices();
     j["faces"] = scene.mesh.nFaces();
+    j["display"] = {{"vertices", m_display.fullVertex.size()},
+                    {"faces", m_display.faces.size()},
+                    {"decimated", decimated()},
+                    {"cell_size", m_display.cellSize}};
     return j.dump();
 }
 
@@ -431,19 +466,38 @@ std::string Studio::editResponse() const {
     return out;
 }
 
-std::string Studio::meshBinary() const {
-    const field::Mesh &mesh = m_loaded.scene->mesh; // never changes
-    std::string out;
-    out.reserve(16 + size_t(mesh.nVertices()) * 12 + size_t(mesh.nFaces()) * 12);
-    out += "RSM1";
-    putU32(out, uint32_t(mesh.nVertices()));
-    putU32(out, uint32_t(mesh.nFaces()));
-    putU32(out, 0);
-    for (const Vec3 &p : mesh.positions())
-        for (int c = 0; c < 3; ++c) putF32(out, p[c]);
-    for (const field::Face &f : mesh.faces())
-        for (int c = 0; c < 3; ++c) putU32(out, uint32_t(f[c]));
-    return out;
+std::string Studio::meshBinary() const { return m_meshBytes; }
+
+std::string Studio::pick(const std::string &body) {
+    json j;
+    try {
+        j = json::parse(body);
+    } catch (const json::exception &e) {
+        bad(std::string("the body is not JSON: ") + e.what(), "send {\"origin\": [x,y,z], \"direction\": [x,y,z]}");
+    }
+    if (!j.is_object()) bad("the body must be a JSON object", "send {\"origin\": [x,y,z], \"direction\": [x,y,z]}");
+    onlyKeys(j, {"origin", "direction"});
+    return pick(vec3(j, "origin"), vec3(j, "direction"));
+}
+
+std::string Studio::pick(const Vec3 &origin, const Vec3 &direction) {
+    if (!origin.allFinite() || !direction.allFinite() || direction.norm() < 1e-30)
+        bad("a pick needs a finite origin and a non-zero finite direction", "send origin [x,y,z], direction [x,y,z]");
+    std::lock_guard lock(m_pickMutex);
+    if (!m_pickRays) {
+        if (m_pickRaysBuilding.valid()) m_pickRays = m_pickRaysBuilding.get();
+        else m_pickRays = std::make_unique<renderer::RayScene>(m_loaded.scene->mesh);
+    }
+    renderer::Ray ray;
+    ray.origin = origin;
+    ray.dir = direction.normalized();
+    const renderer::Hit hit = m_pickRays->intersect(ray);
+    if (!hit.valid()) return json{{"hit", false}}.dump();
+    // The point from the barycentrics, in double precision, on the full mesh's face.
+    const field::Mesh &mesh = m_loaded.scene->mesh;
+    const field::Face &f = mesh.face(hit.faceId);
+    const Vec3 p = (1.0 - hit.u - hit.v) * mesh.position(f[0]) + hit.u * mesh.position(f[1]) + hit.v * mesh.position(f[2]);
+    return json{{"hit", true}, {"position", vecJson(p)}, {"face", hit.faceId}}.dump();
 }
 
 std::string Studio::fieldBinary() const {
@@ -453,7 +507,7 @@ std::string Studio::fieldBinary() const {
 
 std::string Studio::singularitiesJson() const {
     std::lock_guard lock(m_mutex);
-    return json{{"singularities", singularityList(m_state->singularities.singularities)}}.dump();
+    return json{{"singularities", singularityList(m_loaded.scene->mesh, m_state->singularities.singularities)}}.dump();
 }
 
 std::string Studio::separatricesJson() const {

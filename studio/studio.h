@@ -16,7 +16,9 @@
 #include "field/mesh_io.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene_writer.h"
+#include "studio/display_mesh.h"
 
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -30,12 +32,19 @@ struct StudioOptions {
     int undoLimit = 64;
     /// Largest preview side in pixels.
     int maxPreviewSide = 2048;
+    /// Meshes with more faces than this are shown on the page as a display mesh of at
+    /// most `displayFaces` faces (display_mesh.h); the field is still the full mesh's.
+    int displayAbove = 100000;
+    int displayFaces = 50000;
 };
 
-/// Binary layouts (little-endian; every section 4-byte aligned):
-///   mesh:  "RSM1", u32 nVertices, u32 nFaces, u32 0, f32[3 nV] positions, u32[3 nF] corners
+/// Binary layouts (little-endian; every section 4-byte aligned). Both describe the
+/// display mesh (the scene's mesh itself up to StudioOptions::displayAbove faces):
+///   mesh:  "RSM1", u32 nVertices, u32 nFaces, u32 decimated (0 or 1), f32[3 nV] positions,
+///          u32[3 nF] corners, and when decimated u32[nV] the full mesh's vertex of each
 ///   field: "RSF1", u32 nVertices, u32 N, u32 0, f32[3 nV] first member direction
-///          (unit, world; zero where the field vanishes), f32[3 nV] vertex normals
+///          (unit, world; zero where the field vanishes), f32[3 nV] vertex normals, both
+///          of the full mesh's vertex that each display vertex is
 ///   edit response: "RSE1", u32 jsonBytes (a multiple of 4, space-padded), the state
 ///          JSON (see stateJson()), then the field as above.
 class Studio {
@@ -50,9 +59,20 @@ public:
     /// {scene, symmetry, source, smoothing_length, global_smoothing, elements [...],
     ///  edits [...], singularities [{id, face, position, index, index_numerator}],
     ///  index_sum, can_undo, can_redo, camera {...}, bounds {min, max}, vertices, faces}
+    /// Also `display` {vertices, faces, decimated, cell_size}; each singularity has
+    /// `normal` (its face's).
     std::string stateJson() const;
     std::string meshBinary() const;
     std::string fieldBinary() const;
+    /// Where a ray (from the page's camera through a clicked pixel) first meets the
+    /// full mesh: {"hit": true, "position": [x,y,z], "face": F} or {"hit": false}.
+    /// The page draws the display mesh; this puts a click on the true surface.
+    /// \throws InputError for a zero or non-finite direction.
+    std::string pick(const field::Vec3 &origin, const field::Vec3 &direction);
+    /// pick() of a JSON body {"origin": [x,y,z], "direction": [x,y,z]}.
+    std::string pick(const std::string &json);
+    const DisplayMesh &displayMesh() const { return m_display; }
+    bool decimated() const { return m_display.cellSize > 0.0; }
     /// {singularities: [...]} only.
     std::string singularitiesJson() const;
     /// {separatrices: [{singularity, incoming, points: [[x,y,z], ...]}]}
@@ -90,7 +110,14 @@ private:
     std::string m_text; ///< the scene file as read
     StudioOptions m_options;
     scenes::LoadedScene m_loaded;
-    std::string m_normalBytes; ///< the field response's constant half: f32 vertex normals
+    DisplayMesh m_display;
+    std::string m_meshBytes;   ///< meshBinary(): the display mesh never changes
+    std::string m_normalBytes; ///< the field response's constant half: f32 display vertex normals
+    // pick(): the full mesh's ray scene, built on a thread at load for a decimated mesh
+    // (else on the first pick).
+    std::mutex m_pickMutex;
+    std::future<std::unique_ptr<renderer::RayScene>> m_pickRaysBuilding;
+    std::unique_ptr<renderer::RayScene> m_pickRays;
     std::unique_ptr<State> m_state;
     std::vector<std::unique_ptr<State>> m_undo, m_redo;
     mutable std::mutex m_mutex;

@@ -82,20 +82,67 @@ function placeCamera(cam, bounds) {
   resize();
 }
 
-function buildMesh(buffer) {
+// The mesh (the display mesh of a large one, docs/studio.md) arrives in pieces
+// (chunked): once the positions are in, the faces received so far are drawn,
+// piece by piece. `buffer` holds the whole answer; `got` bytes of it are in.
+function meshArrived(buffer, got) {
   const view = new DataView(buffer);
   const nV = view.getUint32(4, true), nF = view.getUint32(8, true);
-  const positions = new Float32Array(buffer, 16, 3 * nV);
-  const indices = new Uint32Array(buffer, 16 + 12 * nV, 3 * nF);
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-  geometry.setIndex(new THREE.BufferAttribute(indices, 1));
+  if (got < 16 + 12 * nV) return;
+  if (!meshObject) {
+    const positions = new Float32Array(buffer, 16, 3 * nV);
+    const indices = new Uint32Array(buffer, 16 + 12 * nV, 3 * nF);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    geometry.setIndex(new THREE.BufferAttribute(indices, 1));
+    const material = new THREE.MeshLambertMaterial({
+      color: 0xd8d2c4, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 });
+    meshObject = new THREE.Mesh(geometry, material);
+    scene.add(meshObject);
+    meshData = { nV, nF, positions, indices, shown: 0 };
+  }
+  const faces = Math.min(nF, Math.floor((got - 16 - 12 * nV) / 12));
+  // Redrawn for each further quarter of the faces (the normals are recomputed each time).
+  if (faces === meshData.shown || (faces < nF && faces - meshData.shown < nF / 4)) return;
+  meshData.shown = faces;
+  const geometry = meshObject.geometry;
+  geometry.index.needsUpdate = true;
+  geometry.setDrawRange(0, 3 * faces);
   geometry.computeVertexNormals();
-  const material = new THREE.MeshLambertMaterial({
-    color: 0xd8d2c4, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 });
-  meshObject = new THREE.Mesh(geometry, material);
-  scene.add(meshObject);
-  meshData = { nV, nF, positions, indices };
+  draw();
+}
+
+async function fetchMesh(onFirstPiece) {
+  const res = await api('GET', '/api/mesh');
+  const reader = res.body.getReader();
+  let head = new Uint8Array(0), bytes = null, got = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    if (!bytes) {
+      const joined = new Uint8Array(head.length + value.length);
+      joined.set(head);
+      joined.set(value, head.length);
+      head = joined;
+      if (head.length < 16) continue;
+      const view = new DataView(head.buffer);
+      const nV = view.getUint32(4, true), nF = view.getUint32(8, true), decimated = view.getUint32(12, true);
+      bytes = new Uint8Array(16 + 12 * nV + 12 * nF + (decimated ? 4 * nV : 0));
+      bytes.set(head.subarray(0, Math.min(head.length, bytes.length)));
+      got = head.length;
+      onFirstPiece();
+    } else {
+      bytes.set(value.subarray(0, Math.max(0, Math.min(value.length, bytes.length - got))), got);
+      got += value.length;
+    }
+    meshArrived(bytes.buffer, got);
+  }
+  if (!bytes || got !== bytes.length) throw new Error('the mesh arrived incomplete');
+  return bytes.buffer;
+}
+
+function finishMesh() {
+  const { nV, nF, positions, indices } = meshData;
   // Arm length from the mean area per displayed vertex.
   let area = 0;
   const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Vector3();
@@ -181,10 +228,11 @@ function buildSingularities() {
 
 const raycaster = new THREE.Raycaster();
 
-// Screen position (CSS pixels in the canvas) of a world point on face `face`, and
-// whether it is seen: `exact` casts a ray against the mesh (slow on big meshes: no
-// BVH), else the face only has to turn toward the camera (labels, every frame).
-function screenOf(p, face = -1, exact = false) {
+// Screen position (CSS pixels in the canvas) of a world point with surface normal
+// `normal`, and whether it is seen: `exact` casts a ray against the mesh (slow on
+// big meshes: no BVH), else the normal only has to turn toward the camera (labels,
+// every frame).
+function screenOf(p, normal = null, exact = false) {
   const v = new THREE.Vector3(...p).project(camera);
   const x = (v.x + 1) / 2 * canvas.clientWidth, y = (1 - v.y) / 2 * canvas.clientHeight;
   let visible = v.z < 1 && x >= 0 && y >= 0 && x < canvas.clientWidth && y < canvas.clientHeight;
@@ -195,12 +243,8 @@ function screenOf(p, face = -1, exact = false) {
     raycaster.set(from, dir.normalize());
     const hit = raycaster.intersectObject(meshObject)[0];
     visible = !hit || hit.distance > dist - 2 * dotRadius;
-  } else if (visible && meshData && face >= 0) {
-    const P = meshData.positions, I = meshData.indices;
-    const a = new THREE.Vector3().fromArray(P, 3 * I[3 * face]);
-    const b = new THREE.Vector3().fromArray(P, 3 * I[3 * face + 1]).sub(a);
-    const c = new THREE.Vector3().fromArray(P, 3 * I[3 * face + 2]).sub(a);
-    visible = b.cross(c).dot(camera.position.clone().sub(a)) > 0;
+  } else if (visible && normal) {
+    visible = new THREE.Vector3(...normal).dot(camera.position.clone().sub(new THREE.Vector3(...p))) > 0;
   }
   return { x, y, visible };
 }
@@ -209,7 +253,7 @@ function placeLabels() {
   if (!state) return;
   const spans = $('labels').children;
   state.singularities.forEach((s, i) => {
-    const q = screenOf(s.position, s.face);
+    const q = screenOf(s.position, s.normal);
     const span = spans[i];
     if (!span) return;
     span.style.display = q.visible ? 'block' : 'none';
@@ -338,7 +382,19 @@ function ndc(event) {
 }
 function pick(event, objects) {
   raycaster.setFromCamera(ndc(event), camera);
-  return raycaster.intersectObjects(objects, false)[0] || null;
+  const hit = raycaster.intersectObjects(objects, false)[0] || null;
+  if (hit) hit.ray = raycaster.ray.clone();
+  return hit;
+}
+// The point of the true surface under a pick on the mesh. A display mesh (large
+// meshes) lies off the surface by up to a clustering cell, so the server casts the
+// same ray against the full mesh; null when that ray misses it.
+async function surfacePoint(hit) {
+  if (!hit) return null;
+  if (!state.display || !state.display.decimated) return hit.point.toArray();
+  const res = await api('POST', '/api/pick', { origin: hit.ray.origin.toArray(), direction: hit.ray.direction.toArray() });
+  const r = await res.json();
+  return r.hit ? r.position : null;
 }
 const mode = () => document.querySelector('input[name=mode]:checked').value;
 for (const radio of document.querySelectorAll('input[name=mode]'))
@@ -370,10 +426,10 @@ canvas.addEventListener('pointerup', async (event) => {
     const grabbed = down.grabbed;
     down = null;
     if (moved > 4) {
-      const target = pick(event, [meshObject]);
+      const target = await surfacePoint(pick(event, [meshObject]));
       if (!target) return setStatus('dropped off the model');
-      if (grabbed.element !== undefined) return edit({ op: 'update_element', index: grabbed.element, position: target.point.toArray() });
-      return edit({ op: 'move_singularity', id: grabbed.id, to: target.point.toArray() });
+      if (grabbed.element !== undefined) return edit({ op: 'update_element', index: grabbed.element, position: target });
+      return edit({ op: 'move_singularity', id: grabbed.id, to: target });
     }
     pending = grabbed; // a click: the next click on the model is the target
     return setStatus(grabbed.element !== undefined ? `element ${grabbed.element} picked; click where it should go`
@@ -381,25 +437,27 @@ canvas.addEventListener('pointerup', async (event) => {
   }
   if (m === 'regular' && down.hit) {
     // Drag sets the direction; a click takes the field's own direction there.
-    const p = down.hit.point;
+    const hit = down.hit, p = hit.point;
+    down = null;
     let direction = null;
     if (moved > 4) {
       const end = pick(event, [meshObject]);
       if (end) direction = end.point.clone().sub(p).toArray();
     }
     if (!direction) {
-      const v = meshData.indices[3 * down.hit.faceIndex];
+      const v = meshData.indices[3 * hit.faceIndex];
       direction = lastField ? Array.from(lastField.dirs.subarray(3 * v, 3 * v + 3)) : [1, 0, 0];
       if (direction.every((x) => x === 0)) direction = [1, 0, 0];
     }
-    down = null;
-    return edit({ op: 'add_element', position: p.toArray(), order: 0, direction });
+    const position = await surfacePoint(hit);
+    if (!position) return setStatus('clicked off the model');
+    return edit({ op: 'add_element', position, order: 0, direction });
   }
   if (moved > 4) { down = null; return; } // an orbit drag
   down = null;
   if (m === 'plus' || m === 'minus') {
-    const hit = pick(event, [meshObject]);
-    if (hit) edit({ op: 'add_element', position: hit.point.toArray(), order: m === 'plus' ? 1 : -1, phase: Number($('phase').value) || 0 });
+    const position = await surfacePoint(pick(event, [meshObject]));
+    if (position) edit({ op: 'add_element', position, order: m === 'plus' ? 1 : -1, phase: Number($('phase').value) || 0 });
   } else if (m === 'cancel' || m === 'move') {
     const dot = pick(event, [...singularityGroup.children, meshObject]);
     const s = dot && dot.object !== meshObject ? dot.object.userData : null;
@@ -410,11 +468,11 @@ canvas.addEventListener('pointerup', async (event) => {
       if (a.id === s.id) return setStatus('picked the same singularity twice');
       edit({ op: 'cancel', a: a.id, b: s.id });
     } else if (pending) {
-      const hit = pick(event, [meshObject]);
       const from = pending; pending = null;
-      if (!hit) return setStatus('clicked off the model');
-      if (from.element !== undefined) edit({ op: 'update_element', index: from.element, position: hit.point.toArray() });
-      else edit({ op: 'move_singularity', id: from.id, to: hit.point.toArray() });
+      const target = await surfacePoint(pick(event, [meshObject]));
+      if (!target) return setStatus('clicked off the model');
+      if (from.element !== undefined) edit({ op: 'update_element', index: from.element, position: target });
+      else edit({ op: 'move_singularity', id: from.id, to: target });
     }
   }
 });
@@ -447,30 +505,28 @@ $('save').addEventListener('click', async () => {
 // ---- start ----------------------------------------------------------------
 async function start() {
   const t0 = performance.now();
-  const [s, mesh, field] = await Promise.all([
-    api('GET', '/api/state').then((r) => r.json()),
-    api('GET', '/api/mesh').then((r) => r.arrayBuffer()),
-    api('GET', '/api/field').then((r) => r.arrayBuffer()),
-  ]);
-  state = s;
+  // The state first (the camera), then the mesh drawn as it streams in, and the field.
+  state = await (await api('GET', '/api/state')).json();
   const base = state.scene.split('/').pop().replace(/\.ya?ml$/, '');
   $('save-name').value = `${base}-studio.yaml`;
-  buildMesh(mesh);
-  placeCamera(state.camera, state.bounds);
-  buildField(field);
+  const field = api('GET', '/api/field').then((r) => r.arrayBuffer());
+  await fetchMesh(() => placeCamera(state.camera, state.bounds));
+  finishMesh();
+  buildField(await field);
   buildSingularities();
   updatePanel();
   draw();
   const ms = Math.round(performance.now() - t0);
   document.body.dataset.loaded = String(ms);
-  setStatus(`${state.vertices} vertices, ${state.faces} faces, ${state.singularities.length} singularities — loaded in ${ms} ms`);
+  const shown = state.display.decimated ? ` (shown as ${state.display.faces} faces)` : '';
+  setStatus(`${state.vertices} vertices, ${state.faces} faces${shown}, ${state.singularities.length} singularities — loaded in ${ms} ms`);
   schedulePreview();
 }
 
 // For tests and scripts: where the visible singularities are on screen.
 window.studio = {
-  singularitiesOnScreen: () => state.singularities.map((s) => ({ ...s, ...screenOf(s.position, s.face, true) })),
-  elementsOnScreen: () => state.elements.map((e) => ({ ...e, ...screenOf(e.position, -1, true) })),
+  singularitiesOnScreen: () => state.singularities.map((s) => ({ ...s, ...screenOf(s.position, null, true) })),
+  elementsOnScreen: () => state.elements.map((e) => ({ ...e, ...screenOf(e.position, null, true) })),
   state: () => state,
 };
 start().catch((e) => setStatus(e.message, true));
