@@ -11,6 +11,7 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -25,6 +26,7 @@ struct StudioCliOptions {
     std::string host = "127.0.0.1";
     bool open = false;
     long long maxFaces = 20'000'000;
+    int displayAbove = 100000;
 };
 
 void openBrowser(const std::string &url) {
@@ -43,6 +45,8 @@ void runStudio(const StudioCliOptions &opt) {
                   << opt.scenePath << "\n";
     studio::StudioOptions so;
     so.load = field::LoadOptions{opt.maxFaces};
+    so.displayAbove = opt.displayAbove;
+    so.displayFaces = std::max(1, opt.displayAbove / 2);
     studio::Studio st(opt.scenePath, so);
     studio::ServerOptions server;
     server.host = opt.host;
@@ -66,6 +70,9 @@ void addStudioCommand(CLI::App &app, Action &action) {
     sub->add_flag("--open", opt->open, "open the page in the default browser (xdg-open)");
     sub->add_option("--max-faces", opt->maxFaces, "reject meshes with more faces than this (default 20000000)")
         ->check(CLI::Range(1LL, 2'000'000'000LL));
+    sub->add_option("--display-above", opt->displayAbove,
+                    "show meshes with more faces than this as a display mesh of at most half as many (default 100000)")
+        ->check(CLI::Range(2, 2'000'000'000));
     sub->callback([opt, &action] { action = [opt] { runStudio(*opt); }; });
 }
 

@@ -5,7 +5,11 @@ tools/setup.sh). Opens the page, waits for the mesh, clicks the bunny to add a
 singular element and sees the singularity count change, cancels a pair by clicking
 two singularities, saves, and renders the saved scene with `rosyhatch render`.
 
-  studio_browser_test.py ROSYHATCH DATA_DIR [--screenshot OUT.png] [--mesh MESH]
+  studio_browser_test.py ROSYHATCH DATA_DIR [--screenshot OUT.png] [--mesh MESH] [--display-above N]
+
+With --display-above N (below the mesh's faces) the page gets a display mesh (the
+path a 270k-face mesh takes, docs/studio.md): the test also checks that it was
+decimated and that the clicked element lies on the full mesh's surface.
 
 Exit 77 (ctest: skipped) with a message when Chromium, its driver or selenium is missing.
 """
@@ -25,6 +29,35 @@ def skip(why):
     sys.exit(SKIP)
 
 
+def distance_to_mesh(off_path, p):
+    """Distance from p to the nearest face of an OFF mesh whose plane it projects
+    into (point in triangle), over faces with a corner near p; inf if none."""
+    with open(off_path) as f:
+        words = [w for line in f if not line.startswith("#") for w in line.split()]
+    assert words[0] == "OFF", off_path
+    nv, nf = int(words[1]), int(words[2])
+    xyz = [tuple(float(w) for w in words[4 + 3 * i:7 + 3 * i]) for i in range(nv)]
+    at = 4 + 3 * nv
+    sub = lambda a, b: (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+    dot = lambda a, b: a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    cross = lambda a, b: (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    best = float("inf")
+    for _ in range(nf):
+        k = int(words[at])
+        a, b, c = (xyz[int(w)] for w in words[at + 1:at + 4])
+        at += 1 + k
+        if min(dot(sub(q, p), sub(q, p)) for q in (a, b, c)) > 1e-4:
+            continue
+        n = cross(sub(b, a), sub(c, a))
+        nn = dot(n, n) ** 0.5
+        if nn == 0:
+            continue
+        inside = all(dot(cross(sub(v, u), sub(p, u)), n) >= -1e-12 * nn for u, v in ((a, b), (b, c), (c, a)))
+        if inside:
+            best = min(best, abs(dot(n, sub(p, a))) / nn)
+    return best
+
+
 def main():
     args = sys.argv[1:]
     screenshot = None
@@ -36,6 +69,11 @@ def main():
     if "--mesh" in args:  # another mesh than bunny00 (timings on big meshes, docs/studio.md)
         i = args.index("--mesh")
         mesh = args[i + 1]
+        del args[i:i + 2]
+    display_above = None
+    if "--display-above" in args:
+        i = args.index("--display-above")
+        display_above = args[i + 1]
         del args[i:i + 2]
     rosyhatch, data = args
     mesh = mesh or f"{data}/meshes/bunny00.off"
@@ -71,7 +109,8 @@ style:
   ambient: 0.08
 output: bunny.png
 """)
-    server = subprocess.Popen([rosyhatch, "studio", scene], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    extra = ["--display-above", display_above] if display_above else []
+    server = subprocess.Popen([rosyhatch, "studio", scene] + extra, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     driver = None
     try:
         server.stdout.readline()  # "rosyhatch studio: SCENE"
@@ -103,6 +142,13 @@ output: bunny.png
         print(f"element added at the canvas centre ({hits[0] // 2}, {hits[1] // 2}): {n0} -> {n1} singularities; "
               f"page: {driver.find_element(By.ID, 'status').text}")
         assert n1 != n0, "adding a +1 element did not change the singularity count"
+        display = driver.execute_script("return window.studio.state().display")
+        assert display["decimated"] == bool(display_above), display
+        if display_above:
+            p = driver.execute_script("return window.studio.state().elements")[0]["position"]
+            d = distance_to_mesh(mesh, p)
+            print(f"display mesh: {display['faces']} faces; the element is {d:.2e} from the full mesh")
+            assert d < 1e-7, f"the click did not land on the full mesh's surface ({d})"
 
         # Drag the element 40 px to the right: it moves there (on the surface).
         driver.find_element(By.ID, "mode-move").click()
