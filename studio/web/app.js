@@ -280,7 +280,27 @@ function updatePanel() {
   list.textContent = '';
   state.elements.forEach((e, i) => {
     const li = document.createElement('li');
-    li.textContent = e.order === 0 ? `direction at (${fmt(e.position)})` : `singular ${e.order > 0 ? '+1' : '−1'}, phase ${e.phase}° at (${fmt(e.position)})`;
+    li.textContent = e.order === 0 ? `direction at (${fmt(e.position)})` : `singular ${e.order > 0 ? '+1' : '−1'} at (${fmt(e.position)})`;
+    // The direction after adding: turn it about the surface normal (or drag from its
+    // marker in the "direction" mode); a singular element's phase.
+    if (e.order === 0) {
+      for (const deg of [-15, 15]) {
+        const b = document.createElement('button');
+        b.textContent = deg < 0 ? '↻ 15°' : '↺ 15°';
+        b.className = deg < 0 ? 'turn-cw' : 'turn-ccw';
+        b.addEventListener('click', () => edit({ op: 'update_element', index: i, direction: turned(e, deg) }));
+        li.appendChild(b);
+      }
+    } else {
+      const label = document.createElement('label');
+      label.textContent = ' phase ';
+      const input = document.createElement('input');
+      input.type = 'number'; input.step = '15'; input.value = String(e.phase); input.className = 'element-phase';
+      input.addEventListener('change', () => edit({ op: 'update_element', index: i, phase: Number(input.value) || 0 }));
+      label.appendChild(input);
+      label.append('°');
+      li.appendChild(label);
+    }
     const del = document.createElement('button');
     del.textContent = 'delete';
     del.addEventListener('click', () => edit({ op: 'delete_element', index: i }));
@@ -298,6 +318,28 @@ function updatePanel() {
     li.appendChild(del);
     edits.appendChild(li);
   });
+}
+
+// The surface normal nearest to a point: the normal sent with the field at the
+// closest displayed vertex.
+function normalNear(p) {
+  if (!lastField || !meshData) return null;
+  const P = meshData.positions;
+  let best = -1, bestD = Infinity;
+  for (let v = 0; v < meshData.nV; ++v) {
+    const d = (P[3 * v] - p[0]) ** 2 + (P[3 * v + 1] - p[1]) ** 2 + (P[3 * v + 2] - p[2]) ** 2;
+    if (d < bestD) { bestD = d; best = v; }
+  }
+  return best < 0 ? null : new THREE.Vector3().fromArray(lastField.normals, 3 * best);
+}
+// A direction element's direction turned by `deg` degrees about the surface normal
+// (counter-clockwise seen from outside), in the tangent plane.
+function turned(e, deg) {
+  const n = normalNear(e.position);
+  const d = new THREE.Vector3(...e.direction);
+  if (!n || n.lengthSq() === 0) return d.toArray();
+  d.sub(n.clone().multiplyScalar(d.dot(n))).normalize();
+  return d.applyAxisAngle(n, (deg * Math.PI) / 180).toArray();
 }
 
 async function refreshSeparatrices() {
@@ -404,7 +446,11 @@ for (const radio of document.querySelectorAll('input[name=mode]'))
 canvas.addEventListener('pointerdown', (event) => {
   down = { x: event.clientX, y: event.clientY, hit: null, grabbed: null };
   if (mode() === 'regular' && meshObject) {
-    down.hit = pick(event, [meshObject]);
+    // A drag from a direction element's marker re-aims it; elsewhere it adds one.
+    const marker = pick(event, [...elementGroup.children, meshObject]);
+    const i = marker && marker.object !== meshObject ? marker.object.userData.element : undefined;
+    if (i !== undefined && state.elements[i].order === 0) down.element = i;
+    else down.hit = pick(event, [meshObject]);
   }
   if (mode() === 'move' && meshObject && !pending) {
     // Drag a singularity or an element marker to where it should go.
@@ -434,6 +480,14 @@ canvas.addEventListener('pointerup', async (event) => {
     pending = grabbed; // a click: the next click on the model is the target
     return setStatus(grabbed.element !== undefined ? `element ${grabbed.element} picked; click where it should go`
                                                    : `singularity ${grabbed.id} picked; click where it should go`);
+  }
+  if (m === 'regular' && down.element !== undefined) {
+    const i = down.element, from = new THREE.Vector3(...state.elements[i].position);
+    down = null;
+    if (moved <= 4) return setStatus(`drag from element ${i} to set its direction`);
+    const end = pick(event, [meshObject]);
+    if (!end) return setStatus('dragged off the model');
+    return edit({ op: 'update_element', index: i, direction: end.point.clone().sub(from).toArray() });
   }
   if (m === 'regular' && down.hit) {
     // Drag sets the direction; a click takes the field's own direction there.
@@ -528,5 +582,6 @@ window.studio = {
   singularitiesOnScreen: () => state.singularities.map((s) => ({ ...s, ...screenOf(s.position, null, true) })),
   elementsOnScreen: () => state.elements.map((e) => ({ ...e, ...screenOf(e.position, null, true) })),
   state: () => state,
+  screenOf: (p) => screenOf(p),
 };
 start().catch((e) => setStatus(e.message, true));

@@ -14,6 +14,7 @@ decimated and that the clicked element lies on the full mesh's surface.
 Exit 77 (ctest: skipped) with a message when Chromium, its driver or selenium is missing.
 """
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -161,6 +162,36 @@ output: bunny.png
         moved = driver.execute_script("return window.studio.elementsOnScreen()")[0]
         print(f"element dragged from ({el['x']:.0f}, {el['y']:.0f}) to ({moved['x']:.0f}, {moved['y']:.0f})")
         assert abs(moved["x"] - el["x"] - 40) < 3 and abs(moved["y"] - el["y"]) < 3, (el, moved)
+
+        # The element's phase from the list, then a direction element (a click at the
+        # centre, free again) turned by 15 degrees with its list button.
+        phase = driver.find_element(By.CSS_SELECTOR, "#elements .element-phase")
+        driver.execute_script("arguments[0].value = '45'; arguments[0].dispatchEvent(new Event('change'))", phase)
+        wait.until(lambda d: d.execute_script("return window.studio.state().elements")[0]["phase"] == 45)
+        driver.find_element(By.ID, "mode-regular").click()
+        ActionChains(driver).move_to_element(canvas).click().perform()
+        wait.until(lambda d: len(d.execute_script("return window.studio.state().elements")) == 2)
+        d0 = driver.execute_script("return window.studio.state().elements")[1]["direction"]
+        driver.find_element(By.CSS_SELECTOR, "#elements li:nth-child(2) .turn-ccw").click()
+        wait.until(lambda d: d.execute_script("return window.studio.state().elements")[1]["direction"] != d0)
+        d1 = driver.execute_script("return window.studio.state().elements")[1]["direction"]
+        norm = lambda v: sum(x * x for x in v) ** 0.5
+        cos = sum(a * b for a, b in zip(d0, d1)) / (norm(d0) * norm(d1))
+        turn = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
+        print(f"phase set to 45 from the list; direction element turned by {turn:.1f} degrees")
+        assert abs(turn - 15) < 2, (d0, d1)
+        # Its marker is a handle: a drag from it to the right re-aims it to the right.
+        el = driver.execute_script("return window.studio.elementsOnScreen()")[1]
+        (ActionChains(driver).move_to_element_with_offset(canvas, int(el["x"] - w / 2), int(el["y"] - h / 2))
+         .click_and_hold().move_by_offset(20, 0).move_by_offset(20, 0).release().perform())
+        wait.until(lambda d: d.execute_script("return window.studio.state().elements")[1]["direction"] != d1)
+        d2 = driver.execute_script("return window.studio.state().elements")[1]["direction"]
+        tip = driver.execute_script(
+            "const e = window.studio.state().elements[1]; const s = 0.01 / Math.hypot(...e.direction);"
+            "return window.studio.screenOf(e.position.map((x, k) => x + s * e.direction[k]))")
+        dx, dy = tip["x"] - el["x"], tip["y"] - el["y"]
+        print(f"direction element re-aimed by dragging its marker: on screen ({dx:.1f}, {dy:.1f})")
+        assert dx > 0 and abs(dy) < 0.5 * dx, (d1, d2, dx, dy)
 
         # Cancel the closest visible opposite pair by clicking the two dots.
         driver.find_element(By.ID, "mode-cancel").click()
