@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/parallel.h"
+#include "field/design.h"
 #include "field/singularities.h"
 #include "renderer/output/image.h"
 #include "renderer/view/embree_scene.h"
@@ -112,6 +113,9 @@ struct Studio::State {
     std::vector<Vec3> moveFrom;
     field::RosyField field;
     field::SingularityReport singularities;
+    /// Per element: the unit normal of the face it snaps to (the page turns
+    /// directions about it).
+    std::vector<Vec3> elementNormals;
     /// f32 first member direction per display vertex (the field response's first half).
     std::vector<float> directions;
 };
@@ -172,6 +176,11 @@ void Studio::rebuild(State &s) const {
         }
     }
     s.singularities = field::findSingularities(frames, f);
+    s.elementNormals.clear();
+    for (const auto &el : s.block.elements) {
+        const field::SnappedElement snap = field::snapToSurface(frames.mesh(), el.position);
+        s.elementNormals.push_back(snap.face >= 0 ? frames.mesh().faceNormal(snap.face) : Vec3::Zero());
+    }
     // Directions: only where the field changed from the state `s` was copied from.
     const field::RosyField previous = std::move(s.field);
     s.field = std::move(f);
@@ -414,8 +423,10 @@ std::string Studio::stateJsonLocked() const {
     j["global_smoothing"] = {{"iterations", s.block.globalSmoothingIterations},
                              {"strength", s.block.globalSmoothingStrength}};
     json elements = json::array();
-    for (const auto &e : s.block.elements) {
+    for (size_t i = 0; i < s.block.elements.size(); ++i) {
+        const auto &e = s.block.elements[i];
         json el = {{"position", vecJson(e.position)}, {"order", e.order}, {"strength", e.strength}};
+        if (i < s.elementNormals.size()) el["normal"] = vecJson(s.elementNormals[i]);
         if (e.order == 0) el["direction"] = vecJson(e.direction);
         else el["phase"] = e.phaseDeg;
         elements.push_back(el);

@@ -59,8 +59,8 @@ public:
     /// {scene, symmetry, source, smoothing_length, global_smoothing, elements [...],
     ///  edits [...], singularities [{id, face, position, index, index_numerator}],
     ///  index_sum, can_undo, can_redo, camera {...}, bounds {min, max}, vertices, faces}
-    /// Also `display` {vertices, faces, decimated, cell_size}; each singularity has
-    /// `normal` (its face's).
+    /// Also `display` {vertices, faces, decimated, cell_size}; each singularity and
+    /// each element has `normal` (its face's on the full mesh).
     std::string stateJson() const;
     std::string meshBinary() const;
     std::string fieldBinary() const;

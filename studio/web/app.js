@@ -333,9 +333,10 @@ function normalNear(p) {
   return best < 0 ? null : new THREE.Vector3().fromArray(lastField.normals, 3 * best);
 }
 // A direction element's direction turned by `deg` degrees about the surface normal
-// (counter-clockwise seen from outside), in the tangent plane.
+// at the element (the state's `normal`: its face on the full mesh), counter-clockwise
+// seen from outside, in the tangent plane.
 function turned(e, deg) {
-  const n = normalNear(e.position);
+  const n = e.normal ? new THREE.Vector3(...e.normal) : normalNear(e.position);
   const d = new THREE.Vector3(...e.direction);
   if (!n || n.lengthSq() === 0) return d.toArray();
   d.sub(n.clone().multiplyScalar(d.dot(n))).normalize();

@@ -235,7 +235,11 @@ TEST_F(StudioDisplay, PicksLandOnTheFullSurface) {
         auto e = client->Post("/api/edit", json{{"op", "add_element"}, {"position", j["position"]}, {"order", 1}}.dump(),
                               "application/json");
         ASSERT_TRUE(e);
-        EXPECT_EQ(e->status, 200) << e->body;
+        ASSERT_EQ(e->status, 200) << e->body;
+        // The state gives it its face's normal (the page turns directions about it).
+        const json st = json::parse(e->body.substr(8, u32(e->body, 4)));
+        const json &nj = st["elements"].back()["normal"];
+        EXPECT_GT(Vec3(nj[0], nj[1], nj[2]).dot(n.normalized()), 0.999);
     }
     EXPECT_GE(hits, 3);
     // A miss, and refused bodies.

@@ -176,14 +176,17 @@ output: bunny.png
         d0 = driver.execute_script("return window.studio.state().elements")[1]["direction"]
         driver.find_element(By.CSS_SELECTOR, "#elements li:nth-child(2) .turn-ccw").click()
         wait.until(lambda d: d.execute_script("return window.studio.state().elements")[1]["direction"] != d0)
-        d1 = driver.execute_script("return window.studio.state().elements")[1]["direction"]
-        norm = lambda v: sum(x * x for x in v) ** 0.5
-        cos = sum(a * b for a, b in zip(d0, d1)) / (norm(d0) * norm(d1))
-        turn = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
-        print(f"phase set to 45 from the list; direction element turned by {turn:.1f} degrees")
-        # 15 degrees about the normal of the nearest shown vertex; the stored direction
-        # may lean off that plane (on noisy meshes), which changes the 3D angle a little.
-        assert abs(turn - 15) < 4, (d0, d1)
+        e1 = driver.execute_script("return window.studio.state().elements")[1]
+        d1, n = e1["direction"], e1["normal"]
+        # The turn in the tangent plane of the element's face (the state's normal),
+        # counter-clockwise seen from outside.
+        dot = lambda a, b: sum(x * y for x, y in zip(a, b))
+        flat = lambda v: [x - dot(v, n) * y for x, y in zip(v, n)]
+        p0, p1 = flat(d0), flat(d1)
+        cross = [p0[1] * p1[2] - p0[2] * p1[1], p0[2] * p1[0] - p0[0] * p1[2], p0[0] * p1[1] - p0[1] * p1[0]]
+        turn = math.degrees(math.atan2(dot(cross, n), dot(p0, p1)))
+        print(f"phase set to 45 from the list; direction element turned by {turn:.2f} degrees")
+        assert abs(turn - 15) < 0.5, (d0, d1, n)
         # Its marker is a handle: a drag from it to the right re-aims it to the right.
         el = driver.execute_script("return window.studio.elementsOnScreen()")[1]
         (ActionChains(driver).move_to_element_with_offset(canvas, int(el["x"] - w / 2), int(el["y"] - h / 2))
