@@ -177,8 +177,9 @@ void Studio::rebuild(State &s) const {
     }
     s.singularities = field::findSingularities(frames, f);
     s.elementNormals.clear();
-    for (const auto &el : s.block.elements) {
-        const field::SnappedElement snap = field::snapToSurface(frames.mesh(), el.position);
+    for (const auto &el : s.block.elements) { // direction elements only: a linear search each, as the library's
+        const field::SnappedElement snap =
+            el.order == 0 ? field::snapToSurface(frames.mesh(), el.position) : field::SnappedElement{};
         s.elementNormals.push_back(snap.face >= 0 ? frames.mesh().faceNormal(snap.face) : Vec3::Zero());
     }
     // Directions: only where the field changed from the state `s` was copied from.
@@ -426,7 +427,7 @@ std::string Studio::stateJsonLocked() const {
     for (size_t i = 0; i < s.block.elements.size(); ++i) {
         const auto &e = s.block.elements[i];
         json el = {{"position", vecJson(e.position)}, {"order", e.order}, {"strength", e.strength}};
-        if (i < s.elementNormals.size()) el["normal"] = vecJson(s.elementNormals[i]);
+        if (e.order == 0 && i < s.elementNormals.size()) el["normal"] = vecJson(s.elementNormals[i]);
         if (e.order == 0) el["direction"] = vecJson(e.direction);
         else el["phase"] = e.phaseDeg;
         elements.push_back(el);

@@ -232,7 +232,9 @@ TEST_F(StudioDisplay, PicksLandOnTheFullSurface) {
         const Vec3 n = (mesh.position(f[1]) - mesh.position(f[0])).cross(mesh.position(f[2]) - mesh.position(f[0]));
         EXPECT_LT(std::abs(n.normalized().dot(q - mesh.position(f[0]))), 1e-9 * diag) << "off the face's plane";
         // An element there is on the surface: the library takes it.
-        auto e = client->Post("/api/edit", json{{"op", "add_element"}, {"position", j["position"]}, {"order", 1}}.dump(),
+        auto e = client->Post("/api/edit",
+                              json{{"op", "add_element"}, {"position", j["position"]}, {"order", 0}, {"direction", {1, 0, 0}}}
+                                  .dump(),
                               "application/json");
         ASSERT_TRUE(e);
         ASSERT_EQ(e->status, 200) << e->body;
