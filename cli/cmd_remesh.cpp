@@ -29,6 +29,7 @@ struct RemeshCliOptions {
     std::string input, output, reportPath;
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
     std::string separatrices = "off";
+    double adaptiveScale = 0;
     int symmetry = 4;
     bool symmetryGiven = false;
     std::vector<std::string> overrides;
@@ -132,6 +133,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     remesh::RemeshOptions ropt;
     ropt.edgeLength = edgeLength;
     ropt.separatrices = opt.separatrices == "on";
+    ropt.scaleStrength = opt.adaptiveScale;
     ropt.maxVertices = opt.common.maxFaces;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
@@ -164,7 +166,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("method", "position-field");
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
-        json.field("separatrices", ropt.separatrices).endObject();
+        json.field("separatrices", ropt.separatrices).field("adaptive_scale", ropt.scaleStrength).endObject();
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
         json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
         json.key("repairs").beginObject();
@@ -198,6 +200,11 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         ->capture_default_str();
     sub->add_option("--separatrices", opt->separatrices,
                     "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
+        ->capture_default_str();
+    sub->add_option("--adaptive-scale", opt->adaptiveScale,
+                    "0 (default): edges of length L everywhere; λ in (0, 2]: spacing L e^(λ φ), φ absorbing the field's "
+                    "curl, fewer irregular vertices for a larger edge-length spread (docs/remeshing.md)")
+        ->check(CLI::Range(0.0, 2.0))
         ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
         ->capture_default_str();

@@ -46,6 +46,10 @@ struct RemeshOptions {
     /// 0.124 -> 0.112, distance to the surface 0.29 % -> 0.40 % of the diagonal
     /// (target 0.5 %); fandisk's sharp edges suffer (input -> output 0.72 % -> 0.85 %).
     int relaxRounds = 1;
+    /// The lattice spacing is L e^{λ φ} (clamped to [L/2, 2L]) with φ the scale
+    /// function that absorbs the integrable part of the field's curl
+    /// (docs/remeshing.md, "Where the irregular vertices come from"); λ = 0: L everywhere.
+    double scaleStrength = 0;
     /// The input is subdivided until its mean edge is at most L / 2; more vertices
     /// than this are refused (InputError: the edge length is too short).
     long long maxVertices = 20'000'000;

@@ -24,7 +24,7 @@ struct Remeshed {
 };
 
 Remeshed run(const Mesh &mesh, int nSym, double relativeEdge, bool separatrices = true,
-             field::FieldSource source = field::FieldSource::Curvature) {
+             field::FieldSource source = field::FieldSource::Curvature, double adaptiveScale = 0) {
     const field::TangentFrames frames(mesh);
     field::FieldSpec spec;
     spec.nSym = nSym;
@@ -37,6 +37,7 @@ Remeshed run(const Mesh &mesh, int nSym, double relativeEdge, bool separatrices 
     RemeshOptions opt;
     opt.edgeLength = relativeEdge * (hi - lo).norm();
     opt.separatrices = separatrices;
+    opt.scaleStrength = adaptiveScale;
     out.result = remesh(frames, fr.field, out.singularities, opt);
     out.quality = measureQuality(out.result.positions, out.result.polygons, frames, fr.field, out.singularities,
                                  opt.edgeLength);
@@ -79,6 +80,36 @@ TEST(Remesh, TorusBecomesAlignedQuads) {
     // polygons and PolyMesh agree
     EXPECT_EQ(int(r4.result.poly.n_faces()), q.faces);
     EXPECT_EQ(int(r4.result.poly.n_vertices()), q.vertices);
+}
+
+TEST(Remesh, AdaptiveScaleAbsorbsTheTorusDislocations) {
+    // The torus's parallels have geodesic curvature 1/ρ·sin: the field's curl is
+    // exactly what a spacing growing with the distance ρ from the axis absorbs
+    // (φ = log ρ), so with the scale function the dislocations (triangles) of the
+    // fixed-L lattice should mostly go, and edges on the outer side be longer.
+    const double R = 1.0, r = 0.45;
+    const Mesh torus = field::makeTorus(R, r, 96, 40);
+    const Remeshed fixed = run(torus, 4, 0.03, false);
+    const Remeshed scaled = run(torus, 4, 0.03, false, field::FieldSource::Curvature, 2.0);
+    expectValidClosed(scaled.quality, 0);
+    auto triangles = [](const QualityReport &q) { return q.facesBySides.count(3) ? q.facesBySides.at(3) : 0; };
+    EXPECT_LT(triangles(scaled.quality), triangles(fixed.quality) / 2)
+        << triangles(fixed.quality) << " triangles with L everywhere";
+    // Mean edge on the outer third of the tube against the inner third: the
+    // radii there are about R + 0.7 r and R - 0.7 r, a ratio of 1.9.
+    double outer = 0, inner = 0;
+    int nOuter = 0, nInner = 0;
+    const auto &P = scaled.result.positions;
+    for (const auto &poly : scaled.result.polygons)
+        for (size_t k = 0; k < poly.size(); ++k) {
+            const Vec3 a = P[poly[k]], b = P[poly[(k + 1) % poly.size()]];
+            const double rho = 0.5 * (std::hypot(a.x(), a.y()) + std::hypot(b.x(), b.y()));
+            if (rho > R + 0.5 * r) outer += (a - b).norm(), ++nOuter;
+            if (rho < R - 0.5 * r) inner += (a - b).norm(), ++nInner;
+        }
+    ASSERT_GT(nOuter, 0);
+    ASSERT_GT(nInner, 0);
+    EXPECT_GT((outer / nOuter) / (inner / nInner), 1.3);
 }
 
 TEST(Remesh, SphereKeepsEulerCharacteristicAndIrregularVerticesAtSingularities) {
