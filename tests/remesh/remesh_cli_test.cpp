@@ -31,6 +31,7 @@ TEST(RemeshCli, SceneToObjWithReport) {
     const nlohmann::json j = nlohmann::json::parse(slurp(dir / "torus.json"));
     EXPECT_EQ(j["method"], "position-field");
     EXPECT_EQ(j["options"]["symmetry"], 4);
+    EXPECT_EQ(j["options"]["adaptive_scale"], 0.0);
     const auto &q = j["quality"];
     EXPECT_TRUE(q["topology"]["closed"].get<bool>());
     EXPECT_EQ(q["topology"]["euler_characteristic"], 0);
@@ -71,6 +72,8 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --edge 0.01%", "--edge"},
         {"remesh s.yaml -o out.obj --edge abc", "--edge"},
         {"remesh s.yaml -o out.obj --separatrices maybe", "--separatrices"},
+        {"remesh s.yaml -o out.obj --adaptive-scale 3", "--adaptive-scale"},
+        {"remesh s.yaml -o out.obj --adaptive-scale -0.5", "--adaptive-scale"},
         {"remesh missing.off -o out.obj", "missing.off"},
     };
     int k = 0;
