@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
+
 namespace rosy::remesh {
 namespace {
 
