@@ -9,7 +9,8 @@ two singularities, saves, and renders the saved scene with `rosyhatch render`.
 
 With --display-above N (below the mesh's faces) the page gets a display mesh (the
 path a 270k-face mesh takes, docs/studio.md): the test also checks that it was
-decimated and that the clicked element lies on the full mesh's surface.
+decimated and that the clicked element lies on the full mesh's surface, drags it,
+and stops there (the rest does not depend on the mesh shown).
 
 Exit 77 (ctest: skipped) with a message when Chromium, its driver or selenium is missing.
 """
@@ -164,6 +165,9 @@ output: bunny.png
         moved = driver.execute_script("return window.studio.elementsOnScreen()")[0]
         print(f"element dragged from ({el['x']:.0f}, {el['y']:.0f}) to ({moved['x']:.0f}, {moved['y']:.0f})")
         assert abs(moved["x"] - el["x"] - 40) < 3 and abs(moved["y"] - el["y"]) < 3, (el, moved)
+
+        if display_above:  # the rest does not depend on the display mesh: covered by the full run
+            return 0
 
         # The element's phase from the list, then a direction element (a click at the
         # centre, free again) turned by 15 degrees with its list button.
