@@ -256,7 +256,15 @@ StudioServer::StudioServer(Studio &studio, ServerOptions options)
                 throw InputError(FileLoc{"request"}, "size must be a whole number of pixels", "e.g. ?size=512");
             size = std::stoi(s);
         }
-        res.set_content(st->previewPng(size), "image/png");
+        bool original = false;
+        if (req.has_param("of")) {
+            const std::string of = req.get_param_value("of");
+            if (of != "current" && of != "original")
+                throw InputError(FileLoc{"request"}, "unknown preview `of=" + of.substr(0, 40) + "`",
+                                 "of=current (the default) or of=original (the field as the scene file gave it)");
+            original = of == "original";
+        }
+        res.set_content(st->previewPng(size, original), "image/png");
     }));
     srv.Post("/api/save", guarded([st, js](const auto &req, auto &res) {
         std::string name;

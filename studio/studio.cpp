@@ -136,6 +136,7 @@ Studio::Studio(const std::string &scenePath, const StudioOptions &options) : m_p
     state->block = scenes::fieldBlockOf(desc.field.spec, desc.field.edits);
     state->moveFrom.assign(state->block.edits.size(), Vec3::Constant(std::nan("")));
     rebuild(*state);
+    m_original = std::make_shared<const State>(*state);
     m_state = std::move(state);
 }
 
@@ -549,14 +550,15 @@ std::string Studio::sceneText() const {
     return scenes::replaceFieldBlock(m_text, m_path, m_state->block);
 }
 
-std::string Studio::previewPng(int maxSide) {
+std::string Studio::previewPng(int maxSide, bool original) {
     const std::array<int, 2> size = previewResolution(maxSide);
     field::RosyField f;
     field::SingularityReport sings;
     {
         std::lock_guard lock(m_mutex);
-        f = m_state->field;
-        sings = m_state->singularities;
+        const State &s = original ? *m_original : *m_state;
+        f = s.field;
+        sings = s.singularities;
     }
     std::lock_guard lock(m_previewMutex);
     if (size != m_previewSize) {

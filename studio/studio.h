@@ -87,8 +87,10 @@ public:
     std::string undo();
     std::string redo();
     /// The current field's hatching at `maxSide` pixels on the longer side (the scene
-    /// camera's aspect kept), as the PNG `rosyhatch render` writes.
-    std::string previewPng(int maxSide);
+    /// camera's aspect kept), as the PNG `rosyhatch render` writes. With `original`,
+    /// the field the scene file gave when the studio opened it (for a side-by-side
+    /// original / edited comparison, as `rosyhatch compare --variants original,edited`).
+    std::string previewPng(int maxSide, bool original = false);
     /// The preview's resolution for `maxSide` ([width, height]).
     std::array<int, 2> previewResolution(int maxSide) const;
     /// Writes the scene with the current `field:` block atomically: in place when
@@ -119,6 +121,7 @@ private:
     std::future<std::unique_ptr<renderer::RayScene>> m_pickRaysBuilding;
     std::unique_ptr<renderer::RayScene> m_pickRays;
     std::unique_ptr<State> m_state;
+    std::shared_ptr<const State> m_original; ///< the state the scene file gave
     std::vector<std::unique_ptr<State>> m_undo, m_redo;
     mutable std::mutex m_mutex;
     // Previews: the scene loaded at the preview's resolution and its ray scene.

@@ -410,11 +410,25 @@ async function preview() {
     previewUrl = URL.createObjectURL(blob);
     $('preview').src = previewUrl;
     $('preview').dataset.ms = String(Math.round(performance.now() - t0));
+    await previewOriginal();
   } catch (e) {
     setStatus(e.message, true);
   }
 }
+// The original (the field the scene file gave) beside the edited preview, as
+// `rosyhatch compare --variants original,edited`; fetched once, it never changes.
+let originalUrl = null;
+async function previewOriginal() {
+  const on = $('preview-original').checked;
+  $('original-figure').hidden = !on;
+  $('preview-caption').hidden = !on;
+  if (!on || originalUrl) return;
+  const blob = await (await api('POST', '/api/preview?size=512&of=original')).blob();
+  originalUrl = URL.createObjectURL(blob);
+  $('preview-original-img').src = originalUrl;
+}
 $('preview-button').addEventListener('click', preview);
+$('preview-original').addEventListener('change', () => previewOriginal().catch((e) => setStatus(e.message, true)));
 
 // ---- pointing ----------------------------------------------------------------
 let pending = null; // first singularity picked (cancel / move)

@@ -228,6 +228,13 @@ output: bunny.png
                 print("status:", driver.find_element(By.ID, "status").text)
         assert count() == before - 2, "no pair was cancelled"
 
+        # The original beside the edited preview.
+        driver.find_element(By.ID, "preview-original").click()
+        wait.until(lambda d: d.execute_script(
+            "const i = document.getElementById('preview-original-img'); return i.complete && i.naturalWidth > 0"))
+        assert driver.find_element(By.ID, "original-figure").is_displayed()
+        print("original preview shown beside the edited one")
+
         # Save beside the scene.
         name = driver.find_element(By.ID, "save-name")
         name.clear()

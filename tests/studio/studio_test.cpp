@@ -250,6 +250,7 @@ TEST_F(Studio, MalformedRequestsGet400AndTheServerKeepsRunning) {
     EXPECT_EQ(client->Post("/api/undo", "", "text/plain")->status, 400); // nothing to undo
     EXPECT_EQ(client->Post("/api/preview?size=5", "", "text/plain")->status, 400);
     EXPECT_EQ(client->Post("/api/preview?size=abc", "", "text/plain")->status, 400);
+    EXPECT_EQ(client->Post("/api/preview?size=64&of=edited", "", "text/plain")->status, 400);
     // A body over the bound is refused before it is read whole.
     auto big = client->Post("/api/edit", std::string(200 * 1024, ' '), "application/json");
     ASSERT_TRUE(big);
@@ -477,6 +478,12 @@ TEST_F(Studio, SavedSceneRendersExactlyThePreview) {
                               .c_str()),
               0);
     EXPECT_FALSE(slurp(original) == preview->body);
+    // The original beside the edited one (`of=original`): the scene as the file gave it,
+    // byte for byte what the real program renders of the unedited scene.
+    auto before = client->Post("/api/preview?size=128&of=original", "", "text/plain");
+    ASSERT_TRUE(before);
+    ASSERT_EQ(before->status, 200) << before->body;
+    EXPECT_TRUE(slurp(original) == before->body) << "the original preview differs from a render of the scene file";
 
     // In place: the scene file itself is replaced.
     auto inPlace = client->Post("/api/save", "", "text/plain");
