@@ -536,6 +536,8 @@ TEST(StudioCli, ExitCodesAndTheUrlItServes) {
     EXPECT_EQ(runExit(exe + " studio " + (dir / "bad.yaml").string() + " 2> " + err.string()), 2);
     EXPECT_NE(slurp(err).find("bad.yaml:"), std::string::npos) << slurp(err);
     EXPECT_EQ(runExit(exe + " studio " + (dir / "bad.yaml").string() + " --port 70000 2> " + err.string()), 2);
+    EXPECT_EQ(runExit(exe + " studio " + (dir / "bad.yaml").string() + " --display-above 1 2> " + err.string()), 2);
+    EXPECT_NE(slurp(err).find("--display-above"), std::string::npos) << slurp(err);
     // A port already taken: exit 3 naming it.
     const fs::path scene = dir / "head.yaml";
     std::ofstream(scene) << "mesh: " << kHead << "\n";
