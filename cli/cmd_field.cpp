@@ -20,6 +20,7 @@
 #include "renderer/output/image_io.h"
 #include "renderer/field_picture.h"
 #include "renderer/output/image.h"
+#include "renderer/output/svg.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
@@ -65,6 +66,12 @@ struct FieldOptions {
 
 bool endsWith(const std::string &s, const std::string &suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+bool isSvgPath(const std::string &path) {
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".svg";
 }
 
 // "L,x,y,z[,phase_deg]" or "0,x,y,z,dx,dy,dz".
@@ -284,9 +291,10 @@ void runField(const FieldOptions &opt) {
     for (const auto &[flag, path] : {std::pair<std::string, std::string>{"--image", opt.imagePath},
                                      std::pair<std::string, std::string>{"--image-before", opt.imageBeforePath}}) {
         if (path.empty()) continue;
-        if (!renderer::isSupportedImagePath(path))
+        if (!isSvgPath(path) && !renderer::isSupportedImagePath(path))
             throw InputError(FileLoc{flag}, "cannot write an image named '" + path + "'",
-                             std::string("use one of the extensions ") + renderer::supportedImageExtensions());
+                             std::string("use one of the extensions ") + renderer::supportedImageExtensions() +
+                                 " .svg");
         checkWritable(path);
     }
     for (const std::string &out : {opt.jsonPath, opt.plyPath, opt.exportMeshPath, opt.common.timingsPath,
@@ -300,7 +308,9 @@ void runField(const FieldOptions &opt) {
     // Every output is published at the end, together, or none is (core/atomic_file.h).
     OutputBatch outputs;
     // OpenImageIO maps while the field is built (renderer/output/image_io.h).
-    if (!opt.imagePath.empty() || !opt.imageBeforePath.empty()) renderer::preloadImageIo();
+    if ((!opt.imagePath.empty() && !isSvgPath(opt.imagePath)) ||
+        (!opt.imageBeforePath.empty() && !isSvgPath(opt.imageBeforePath)))
+        renderer::preloadImageIo();
 
     std::vector<std::pair<std::string, double>> ms;
     auto t0 = Clock::now(), tStart = t0;
@@ -330,9 +340,14 @@ void runField(const FieldOptions &opt) {
     // Renders one picture of `rosyField` with its singularities and (if asked) separatrices.
     auto writePicture = [&](const std::string &path, const field::RosyField &rosyField,
                             const field::SingularityReport &rep, const std::vector<field::Separatrix> &seps) {
-        const renderer::Image image =
-            renderer::renderFieldPicture(mesh, frames, rosyField, rep, seps, *camera);
-        renderer::writeImage(image, path);
+        const renderer::FieldDrawing drawing =
+            renderer::drawFieldPicture(mesh, frames, rosyField, rep, seps, *camera);
+        // SVG: the strokes through the SVG writer on its pen layers, on the scene's page
+        // (A4 for a bare mesh); otherwise the raster picture.
+        if (isSvgPath(path))
+            renderer::writeSvg(renderer::fieldPictureStrokes(drawing),
+                               scene ? renderer::svgOptionsFor(scene->style.style.page) : renderer::SvgOptions{}, path);
+        else renderer::writeImage(renderer::rasterizeFieldDrawing(drawing), path);
     };
     std::vector<scenes::AppliedEdit> applied;
     if (!opt.imageBeforePath.empty()) {
@@ -473,7 +488,8 @@ void addFieldCommand(CLI::App &app, Action &action) {
     sub->add_option("--image", opt->imagePath,
                     "Write a picture of the field (after any edits): shaded mesh, streamlines, singularities "
                     "(red +, blue -, darker/larger for higher order), separatrices with --separatrices "
-                    "(green outgoing, orange incoming); format from the extension");
+                    "(green outgoing, orange incoming); format from the extension: an image, or .svg for the "
+                    "strokes as pen layers (1 streamlines, 2 separatrices, 3 singularities; no colours or shading)");
     sub->add_option("--image-before", opt->imageBeforePath,
                     "Write the same picture of the field before the edits, to compare with --image");
     addSetOption(*sub, opt->overrides);

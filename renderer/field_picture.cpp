@@ -1,13 +1,14 @@
 /// \file field_picture.cpp
-/// Field pictures (Palacios & Zhang 2007, Figures 3–6): a light Lambert background,
-/// dense surface streamlines, separatrices and singularity dots, composited in a
-/// small coloured compositor of our own (the stroke rasterizer only makes ink
-/// coverage, and these pictures need several colours).
+/// Field pictures (Palacios & Zhang 2007, Figures 3–6): a light Lambert fill, dense
+/// surface streamlines, separatrices and singularity dots. Everything drawn is a
+/// stroke: each colour is one stroke list, rasterized by rasterizeStrokes() and
+/// painted over the fill in its colour, or written as SVG paths.
 
 #include "renderer/field_picture.h"
 
 #include "core/parallel.h"
 #include "field/streamlines.h"
+#include "renderer/output/raster.h"
 #include "renderer/view/embree_scene.h"
 #include "renderer/view/gbuffer.h"
 
@@ -18,45 +19,6 @@
 
 namespace rosy::renderer {
 namespace {
-
-/// Per-pixel coverage in [0, 1] of one colour group. Shapes are merged by max, so
-/// the result does not depend on the order they are drawn in.
-struct Coverage {
-    int width = 0, height = 0;
-    std::vector<float> c;
-    Coverage(int w, int h) : width(w), height(h), c(size_t(w) * size_t(h), 0.0f) {}
-
-    /// Anti-aliased round-capped segment a–b (raster units) of half width r: a pixel
-    /// centre at distance d gets clamp(r + 0.5 − d, 0, 1), a one-pixel ramp.
-    void segment(const Vec2 &a, const Vec2 &b, double r) {
-        const int x0 = std::max(0, int(std::floor(std::min(a.x(), b.x()) - r - 1)));
-        const int x1 = std::min(width - 1, int(std::ceil(std::max(a.x(), b.x()) + r + 1)));
-        const int y0 = std::max(0, int(std::floor(std::min(a.y(), b.y()) - r - 1)));
-        const int y1 = std::min(height - 1, int(std::ceil(std::max(a.y(), b.y()) + r + 1)));
-        const Vec2 ab = b - a;
-        const double len2 = ab.squaredNorm();
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                const Vec2 p(x + 0.5, y + 0.5);
-                const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-                const double d = (p - (a + t * ab)).norm();
-                const float v = float(std::clamp(r + 0.5 - d, 0.0, 1.0));
-                float &dst = c[size_t(y) * size_t(width) + size_t(x)];
-                dst = std::max(dst, v);
-            }
-    }
-    /// Filled disk of radius r around centre (a zero-length segment).
-    void disk(const Vec2 &centre, double r) { segment(centre, centre, r); }
-};
-
-/// Over-composites a coverage layer of one colour (times `opacity`) onto rgb.
-void composite(std::vector<float> &rgb, const Coverage &layer, const Rgb &colour, float opacity) {
-    for (size_t i = 0; i < layer.c.size(); ++i) {
-        const float a = layer.c[i] * opacity;
-        if (a <= 0) continue;
-        for (int k = 0; k < 3; ++k) rgb[3 * i + size_t(k)] = rgb[3 * i + size_t(k)] * (1 - a) + colour[size_t(k)] * a;
-    }
-}
 
 /// Decides whether world points are seen by the camera, against the G-buffer.
 class Visibility {
@@ -99,23 +61,49 @@ private:
     double m_footprintPerDepth = 0, m_footprintConst = 0;
 };
 
-/// Draws the visible parts of a world polyline: each segment is cut into pieces of
-/// at most ~1.5 px on screen and each piece kept or dropped by the visibility of its
-/// midpoint.
-void drawPolyline(Coverage &layer, const std::vector<field::Vec3> &points, const Camera &camera,
-                  const Visibility &vis, double halfWidthPx) {
+/// Appends the visible parts of a world polyline to `out` as strokes of full width
+/// `widthPx`: each segment is cut into pieces of at most ~1.5 px on screen and each
+/// piece kept or dropped by the visibility of its midpoint; a run of kept pieces is
+/// one stroke.
+void addVisibleStrokes(std::vector<Stroke> &out, const std::vector<field::Vec3> &points, const Camera &camera,
+                       const Visibility &vis, double widthPx) {
+    Stroke run;
+    auto finish = [&] {
+        if (run.points.size() >= 2) {
+            run.widths.assign(run.points.size(), float(widthPx));
+            run.id = uint32_t(out.size());
+            out.push_back(std::move(run));
+        }
+        run = Stroke{};
+    };
     for (size_t i = 0; i + 1 < points.size(); ++i) {
         const Vec3 &p0 = points[i], &p1 = points[i + 1];
-        if (!(camera.depth(p0) > 0) || !(camera.depth(p1) > 0)) continue;
         const Vec2 r0 = camera.project(p0), r1 = camera.project(p1);
-        if (!r0.allFinite() || !r1.allFinite()) continue;
+        if (!(camera.depth(p0) > 0) || !(camera.depth(p1) > 0) || !r0.allFinite() || !r1.allFinite()) {
+            finish();
+            continue;
+        }
         const int n = std::clamp(int(std::ceil((r1 - r0).norm() / 1.5)), 1, 4096);
         for (int k = 0; k < n; ++k) {
             const double t0 = double(k) / n, t1 = double(k + 1) / n;
-            if (!vis.visible(p0 + (0.5 * (t0 + t1)) * (p1 - p0))) continue;
-            layer.segment(r0 + t0 * (r1 - r0), r0 + t1 * (r1 - r0), halfWidthPx);
+            if (!vis.visible(p0 + (0.5 * (t0 + t1)) * (p1 - p0))) {
+                finish();
+                continue;
+            }
+            if (run.points.empty()) run.points.push_back(r0 + t0 * (r1 - r0));
+            run.points.push_back(r0 + t1 * (r1 - r0));
         }
     }
+    finish();
+}
+
+/// A filled dot of radius r: a stroke of two equal points (a round cap), width 2r.
+Stroke dot(const Vec2 &centre, double r, uint32_t id) {
+    Stroke s;
+    s.points = {centre, centre};
+    s.widths = {float(2 * r), float(2 * r)};
+    s.id = id;
+    return s;
 }
 
 /// One seed face per cell of a 3D grid (cell size `spacing`), the lowest visible
@@ -140,14 +128,17 @@ std::vector<int> gridSeeds(const field::Mesh &mesh, const std::vector<char> &fac
 
 } // namespace
 
-Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &frames,
-                         const field::RosyField &field, const field::SingularityReport &report,
-                         const std::vector<field::Separatrix> &separatrices, const Camera &camera,
-                         const FieldPictureOptions &options) {
+FieldDrawing drawFieldPicture(const field::Mesh &mesh, const field::TangentFrames &frames,
+                              const field::RosyField &field, const field::SingularityReport &report,
+                              const std::vector<field::Separatrix> &separatrices, const Camera &camera,
+                              const FieldPictureOptions &options) {
     const int width = camera.width(), height = camera.height();
-    Image image(width, height, {"R", "G", "B"});
-    std::fill(image.data.begin(), image.data.end(), 1.0f);
-    if (mesh.nFaces() == 0) return image;
+    FieldDrawing drawing;
+    drawing.width = width;
+    drawing.height = height;
+    drawing.fill = Image(width, height, {"R", "G", "B"});
+    std::fill(drawing.fill.data.begin(), drawing.fill.data.end(), 1.0f);
+    if (mesh.nFaces() == 0) return drawing;
 
     Vec3 lo = mesh.position(0), hi = lo;
     for (int v = 0; v < mesh.nVertices(); ++v) {
@@ -172,7 +163,7 @@ Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &fr
     const std::vector<double> tone = shadeLambert(gbuffer, scene, mesh, camera, lights, shading);
 
     // Light grey mesh: the lines carry the information, the tone only the form.
-    std::vector<float> rgb(size_t(width) * size_t(height) * 3, 1.0f);
+    std::vector<float> &rgb = drawing.fill.data;
     for (size_t i = 0; i < gbuffer.nPixels(); ++i) {
         if (gbuffer.faceId[i] < 0) continue;
         const float g = float(0.3 + 0.6 * tone[i]);
@@ -181,8 +172,18 @@ Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &fr
 
     const double sizeScale = std::min(width, height) / 1024.0;
     const Visibility vis(gbuffer, camera, diagonal);
+    // Each ink's kind and family choose its pen layer in the SVG (fieldPictureStrokes()).
+    auto ink = [&](std::string name, const styles::Rgb &colour, double opacity, StrokeKind kind, int family,
+                   std::vector<Stroke> strokes, bool vector = true) {
+        for (Stroke &s : strokes) {
+            s.kind = kind;
+            s.family = family;
+        }
+        FieldInk in{std::move(name), colour, opacity, vector, StrokeList{width, height, std::move(strokes)}};
+        drawing.inks.push_back(std::move(in));
+    };
 
-    Coverage streamLayer(width, height);
+    std::vector<Stroke> streamStrokes;
     if (options.streamlines && field.nSym >= 1 && field.u.size() == mesh.nVertices()) {
         std::vector<char> faceVisible(size_t(mesh.nFaces()), 0);
         for (int f : gbuffer.faceId)
@@ -215,40 +216,81 @@ Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &fr
                 lines[size_t(s) * size_t(nMembers) + size_t(k)] = std::move(line.points);
             }
         }, 16);
-        // Below ~0.8 px a line fades into the shading at small resolutions.
-        const double half = std::max(0.5 * options.streamlineWidthPx * sizeScale, 0.4);
-        for (const auto &pts : lines) drawPolyline(streamLayer, pts, camera, vis, half);
+        for (const auto &pts : lines)
+            addVisibleStrokes(streamStrokes, pts, camera, vis, options.streamlineWidthPx * sizeScale);
     }
+    ink("streamlines", options.streamlineColor, 0.9, StrokeKind::Hatch, 0, std::move(streamStrokes));
+    drawing.inks.back().minRasterWidthPx = 0.8;
 
-    Coverage outgoing(width, height), incoming(width, height);
+    std::vector<Stroke> outgoing, incoming;
     for (const field::Separatrix &s : separatrices)
-        drawPolyline(s.incoming ? incoming : outgoing, s.line.points, camera, vis,
-                     0.5 * options.separatrixWidthPx * sizeScale);
+        addVisibleStrokes(s.incoming ? incoming : outgoing, s.line.points, camera, vis,
+                          options.separatrixWidthPx * sizeScale);
+    ink("outgoing separatrices", options.outgoingColor, 1.0, StrokeKind::Hatch, 1, std::move(outgoing));
+    ink("incoming separatrices", options.incomingColor, 1.0, StrokeKind::Hatch, 1, std::move(incoming));
 
     // Dots: a black rim under four colour groups (sign × first/higher order).
-    Coverage rim(width, height);
-    std::array<Coverage, 4> dots{Coverage(width, height), Coverage(width, height), Coverage(width, height),
-                                 Coverage(width, height)};
+    std::vector<Stroke> rims, dots[4];
     for (const field::Singularity &s : report.singularities) {
         if (s.indexNumerator == 0 || !vis.visible(s.position, 1.5)) continue;
         const bool higher = std::abs(s.indexNumerator) > 1;
         const double r = options.dotRadiusPx * sizeScale * (higher ? 1.4 : 1.0);
         const Vec2 c = camera.project(s.position);
-        rim.disk(c, r + std::max(1.0, 1.2 * sizeScale));
-        dots[size_t((s.indexNumerator > 0 ? 0 : 1) + (higher ? 2 : 0))].disk(c, r);
+        rims.push_back(dot(c, r + std::max(1.0, 1.2 * sizeScale), uint32_t(rims.size())));
+        std::vector<Stroke> &group = dots[(s.indexNumerator > 0 ? 0 : 1) + (higher ? 2 : 0)];
+        group.push_back(dot(c, r, uint32_t(group.size())));
     }
+    auto darker = [](const styles::Rgb &c) { return styles::Rgb{0.45 * c[0], 0.45 * c[1], 0.45 * c[2]}; };
+    ink("singularity rims", styles::Rgb{0, 0, 0}, 1.0, StrokeKind::Contour, -1, std::move(rims), false);
+    ink("positive singularities", options.positiveColor, 1.0, StrokeKind::Contour, -1, std::move(dots[0]));
+    ink("negative singularities", options.negativeColor, 1.0, StrokeKind::Contour, -1, std::move(dots[1]));
+    ink("positive higher-order singularities", darker(options.positiveColor), 1.0, StrokeKind::Contour, -1,
+        std::move(dots[2]));
+    ink("negative higher-order singularities", darker(options.negativeColor), 1.0, StrokeKind::Contour, -1,
+        std::move(dots[3]));
+    return drawing;
+}
 
-    auto darker = [](const Rgb &c) { return Rgb{0.45f * c[0], 0.45f * c[1], 0.45f * c[2]}; };
-    composite(rgb, streamLayer, options.streamlineColor, 0.9f);
-    composite(rgb, outgoing, options.outgoingColor, 1.0f);
-    composite(rgb, incoming, options.incomingColor, 1.0f);
-    composite(rgb, rim, Rgb{0, 0, 0}, 1.0f);
-    composite(rgb, dots[0], options.positiveColor, 1.0f);
-    composite(rgb, dots[1], options.negativeColor, 1.0f);
-    composite(rgb, dots[2], darker(options.positiveColor), 1.0f);
-    composite(rgb, dots[3], darker(options.negativeColor), 1.0f);
-    image.data = std::move(rgb);
+Image rasterizeFieldDrawing(const FieldDrawing &drawing) {
+    Image image = drawing.fill;
+    // One ink is one flat colour: where its strokes overlap they do not darken.
+    RasterOptions raster;
+    raster.combine = RasterOptions::Combine::Max;
+    for (const FieldInk &in : drawing.inks) {
+        if (in.strokes.strokes.empty()) continue;
+        const float minWidth = float(in.minRasterWidthPx);
+        bool widen = false;
+        for (const Stroke &s : in.strokes.strokes)
+            for (float w : s.widths) widen = widen || w < minWidth;
+        if (!widen) {
+            paintOver(image, combinedCoverage(rasterizeStrokes(in.strokes, raster)), in.colour, in.opacity);
+            continue;
+        }
+        StrokeList wide = in.strokes;
+        for (Stroke &s : wide.strokes)
+            for (float &w : s.widths) w = std::max(w, minWidth);
+        paintOver(image, combinedCoverage(rasterizeStrokes(wide, raster)), in.colour, in.opacity);
+    }
     return image;
+}
+
+StrokeList fieldPictureStrokes(const FieldDrawing &drawing) {
+    StrokeList list{drawing.width, drawing.height, {}};
+    for (const FieldInk &in : drawing.inks) {
+        if (!in.vector) continue;
+        for (const Stroke &s : in.strokes.strokes) {
+            list.strokes.push_back(s);
+            list.strokes.back().id = uint32_t(list.strokes.size() - 1);
+        }
+    }
+    return list;
+}
+
+Image renderFieldPicture(const field::Mesh &mesh, const field::TangentFrames &frames,
+                         const field::RosyField &field, const field::SingularityReport &report,
+                         const std::vector<field::Separatrix> &separatrices, const Camera &camera,
+                         const FieldPictureOptions &options) {
+    return rasterizeFieldDrawing(drawFieldPicture(mesh, frames, field, report, separatrices, camera, options));
 }
 
 } // namespace rosy::renderer

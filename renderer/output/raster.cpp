@@ -174,6 +174,7 @@ InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options)
     }, 1);
 
     const bool dashed = options.dashOffPx > 0.0 && options.dashOnPx > 0.0;
+    const bool combineMax = options.combine == RasterOptions::Combine::Max;
     const float dashOn = float(options.dashOnPx), dashPeriod = float(options.dashOnPx + options.dashOffPx);
     std::vector<float> *layerOut[kLayerCount] = {&out.hatch0, &out.hatch1, &out.contour, &out.hiddenContour};
 
@@ -194,7 +195,10 @@ InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options)
         auto fold = [&] {
             if (currentLayer < 0) return;
             std::vector<float> &tr = sc.transmittance[currentLayer];
-            for (int p : sc.touched) tr[size_t(p)] *= 1.0f - sc.cov[size_t(p)];
+            if (combineMax)
+                for (int p : sc.touched) tr[size_t(p)] = std::min(tr[size_t(p)], 1.0f - sc.cov[size_t(p)]);
+            else
+                for (int p : sc.touched) tr[size_t(p)] *= 1.0f - sc.cov[size_t(p)];
             sc.touched.clear();
         };
 
@@ -347,6 +351,22 @@ Image compositeInk(const InkLayers &layers, const styles::Style &style, const Co
         image.data[4 * k + 3] = 1.0f;
     }, 4096);
     return image;
+}
+
+void paintOver(Image &image, const std::vector<float> &coverage, const styles::Rgb &colour, double opacity) {
+    const size_t n = size_t(std::max(0, image.width)) * size_t(std::max(0, image.height));
+    ROSY_CHECK_EQ(coverage.size(), n);
+    ROSY_CHECK(image.nChannels == 3 || image.nChannels == 4);
+    const size_t nc = size_t(image.nChannels);
+    const float o = float(std::clamp(opacity, 0.0, 1.0));
+    const float ink[3] = {float(colour[0]), float(colour[1]), float(colour[2])};
+    parallelFor(0, int64_t(n), [&](int64_t i) {
+        const float c = coverage[size_t(i)];
+        const float a = o * (c == c ? std::clamp(c, 0.0f, 1.0f) : 0.0f);
+        if (a <= 0.0f) return;
+        float *px = &image.data[nc * size_t(i)];
+        for (int ch = 0; ch < 3; ++ch) px[ch] = px[ch] * (1.0f - a) + ink[ch] * a;
+    }, 4096);
 }
 
 const std::vector<std::string> &inkExrChannelNames() {

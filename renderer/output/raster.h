@@ -46,6 +46,10 @@ struct RasterOptions {
     /// ends are anti-aliased over one pixel. dashOffPx <= 0 draws them solid.
     double dashOnPx = 4.0;
     double dashOffPx = 3.0;
+    /// How strokes of one layer combine. Over (the default): 1 − Π(1 − c_i), ink
+    /// builds up where strokes cross, as pen on paper. Max: the largest c_i, a flat
+    /// colour where strokes overlap, as one layer of a diagram (field pictures).
+    enum class Combine { Over, Max } combine = Combine::Over;
 };
 
 /// Rasterizes `strokes` at the stroke list's own resolution
@@ -84,6 +88,14 @@ std::vector<float> paperColors(int width, int height, const styles::Style &style
 /// encodes it to 8- or 16-bit sRGB. Empty layers give plain paper.
 Image compositeInk(const InkLayers &layers, const styles::Style &style,
                    const CompositeOptions &options = {});
+
+/// Paints one colour over an RGB or RGBA image (linear light) with per-pixel
+/// coverage: each pixel's R, G, B become rgb × (1 − a) + colour × a with
+/// a = opacity × coverage (coverage clamped to [0, 1], non-finite as 0); alpha is
+/// kept. The compositing of compositeInk() for one ink over any background, e.g.
+/// coloured layers drawn one after the other (field pictures, field_picture.h).
+/// \pre coverage.size() == image width × height (checked: a caller bug).
+void paintOver(Image &image, const std::vector<float> &coverage, const styles::Rgb &colour, double opacity = 1.0);
 
 /// Per-pixel surface data the EXR carries beside the ink, each width × height
 /// (row-major, top row first) or empty (written as zeros).

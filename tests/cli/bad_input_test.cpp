@@ -246,6 +246,9 @@ TEST(BadInputCli, DiskFullMidWriteKeepsThePreviousFileAndNoTemporary) {
         {{"ok.png", "report.json", "t.json"}, "render s.yaml -o ok.png --report report.json --timings t.json", 1},
         {{"field.ply"}, "field s.yaml --export field.ply", 4},
         {{"field.json"}, "field s.yaml --separatrices --json field.json", 4},
+        // The field picture as SVG, and with the JSON report: all or nothing.
+        {{"field.svg"}, "field s.yaml --image field.svg", 4},
+        {{"pic.svg", "field.json"}, "field s.yaml --image pic.svg --json field.json", 4},
     };
     for (const Case &c : cases) {
         SCOPED_TRACE(c.args);

@@ -199,6 +199,47 @@ TEST(FieldCli, ExportMeshAndTimingsFileAreWritten) {
     EXPECT_FALSE(fs::exists(workDir() / "never.obj"));
 }
 
+// --image OUT.svg: the field picture's strokes through the SVG writer, on its pen
+// layers; an unknown extension is refused before any work.
+TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
+    fs::path scene = writeScene("field-svg.yaml", "mesh: {primitive: disk}\n"
+                                                  "camera: {resolution: [128, 128]}\n"
+                                                  "field:\n  source: design\n"
+                                                  "  elements: [{position: [0.2, -0.1, 0], order: -1}]\n");
+    fs::remove(workDir() / "field-pic.svg");
+    CliRun r = run("field '" + scene.string() + "' --separatrices --image field-pic.svg --quiet", "field-svg");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string svg = slurp(workDir() / "field-pic.svg");
+    ASSERT_EQ(svg.rfind("<?xml", 0), 0u) << svg.substr(0, 200);
+    ASSERT_GE(svg.size(), 7u);
+    EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
+    // Every layer opened is closed, every path is an empty element.
+    auto count = [&](const std::string &what, size_t from = 0, size_t to = std::string::npos) {
+        int n = 0;
+        for (size_t at = svg.find(what, from); at != std::string::npos && at < to; at = svg.find(what, at + 1)) ++n;
+        return n;
+    };
+    EXPECT_EQ(count("<g "), count("</g>"));
+    EXPECT_EQ(count("<path "), count("\"/>"));
+    // Paths per layer: streamlines, separatrices (N + 1 = 5 from the -1/4 singularity,
+    // merged where they meet), and exactly one dot for the one singularity.
+    auto layerPaths = [&](const std::string &label) {
+        const size_t at = svg.find("inkscape:label=\"" + label + "\"");
+        if (at == std::string::npos) return -1;
+        return count("<path ", at, svg.find("</g>", at));
+    };
+    EXPECT_GT(layerPaths("1 hatch"), 10);
+    EXPECT_GE(layerPaths("2 cross-hatch"), 1);
+    EXPECT_EQ(layerPaths("3 contours"), 1);
+
+    std::ofstream(workDir() / "field-pic.xyz") << "old";
+    CliRun bad = run("field '" + scene.string() + "' --image field-pic.xyz", "field-svg-ext");
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
+    EXPECT_NE(bad.err.find("--image: error:"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find(".svg"), std::string::npos) << bad.err;
+    EXPECT_EQ(slurp(workDir() / "field-pic.xyz"), "old");
+}
+
 TEST(FieldCli, SceneEditsAndEditFlagsReachTheReport) {
     const std::string block = "mesh: {primitive: disk}\n"
                               "field:\n"

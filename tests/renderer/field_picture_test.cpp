@@ -1,11 +1,13 @@
 // Tests of the field picture: dots where the singularities are, in the colour of
-// their sign, separatrices in their colour, and thread-count independence.
+// their sign, separatrices in their colour, thread-count independence, and the
+// drawing as strokes (the SVG's pen layers, the rasterizer's max combine).
 
 #include "renderer/field_picture.h"
 
 #include "field/design.h"
 #include "field/primitives.h"
 #include "field/smoothing.h"
+#include "renderer/output/raster.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -82,13 +84,20 @@ struct DiskScene {
 constexpr double kEyeZ = 3.0, kFovDeg = 50.0;
 constexpr int kSize = 256;
 
-Image renderDisk(const DiskScene &s) {
-    const Camera cam = Camera::perspective(Vec3(0, 0, kEyeZ), Vec3::Zero(), Vec3(0, 1, 0), kFovDeg, kSize, kSize);
+FieldPictureOptions diskOptions() {
     FieldPictureOptions opt;
     opt.dotRadiusPx = 16; // 4 px at 256²
     opt.separatrixWidthPx = 8;
     opt.streamlineWidthPx = 4;
-    return renderFieldPicture(s.mesh, s.frames, s.field, s.report, s.separatrices, cam, opt);
+    return opt;
+}
+
+Camera diskCamera() {
+    return Camera::perspective(Vec3(0, 0, kEyeZ), Vec3::Zero(), Vec3(0, 1, 0), kFovDeg, kSize, kSize);
+}
+
+Image renderDisk(const DiskScene &s) {
+    return renderFieldPicture(s.mesh, s.frames, s.field, s.report, s.separatrices, diskCamera(), diskOptions());
 }
 
 } // namespace
@@ -202,4 +211,71 @@ TEST(FieldPicture, OddSymmetryDrawsIncomingSeparatricesOrange) {
     EXPECT_GT(orange, 50);
     EXPECT_GT(green, 50);
     EXPECT_EQ(red, 0); // orange is not mistaken for a positive dot
+}
+
+// The drawing's strokes on the SVG writer's pen layers: streamlines as hatch family
+// 0, separatrices as family 1, the one singularity as a single dot (the black rim
+// that frames it in the raster picture is not a vector stroke).
+TEST(FieldPicture, StrokesGoToPenLayersAndTheDotIsOneRoundStroke) {
+    const DiskScene s;
+    ASSERT_EQ(s.report.singularities.size(), 1u);
+    const FieldDrawing d = drawFieldPicture(s.mesh, s.frames, s.field, s.report, s.separatrices, diskCamera(),
+                                            diskOptions());
+    EXPECT_EQ(d.width, kSize);
+    EXPECT_EQ(d.height, kSize);
+    const StrokeList list = fieldPictureStrokes(d);
+    EXPECT_EQ(list.width, kSize);
+    int streamlines = 0, separatrices = 0, dots = 0;
+    for (const Stroke &st : list.strokes) {
+        ASSERT_GE(st.points.size(), 2u);
+        ASSERT_EQ(st.widths.size(), st.points.size());
+        for (const Eigen::Vector2d &p : st.points) {
+            EXPECT_GE(p.x(), -1.0);
+            EXPECT_LE(p.x(), kSize + 1.0);
+        }
+        if (st.kind == StrokeKind::Hatch && st.family == 0) ++streamlines;
+        if (st.kind == StrokeKind::Hatch && st.family == 1) ++separatrices;
+        if (st.kind == StrokeKind::Contour) {
+            ++dots;
+            // Radius 16 px at 1024 is 4 px at 256²: a 2-point stroke, 8 px wide, no length.
+            ASSERT_EQ(st.points.size(), 2u);
+            EXPECT_EQ(st.points[0], st.points[1]);
+            EXPECT_FLOAT_EQ(st.widths[0], 8.0f);
+        }
+    }
+    EXPECT_GT(streamlines, 20);
+    EXPECT_GE(separatrices, 5); // N + 1 = 5 separatrices, each one stroke or more where cut
+    EXPECT_EQ(dots, 1);
+}
+
+// Strokes of one ink are a flat colour where they overlap (Combine::Max), pen
+// strokes build up ink (Combine::Over): two crossing 0.5 px lines give a centre
+// coverage of 0.5 (the band profile's plateau at width 0.5) and 1 − 0.5² = 0.75.
+TEST(FieldPicture, MaxCombineKeepsOverlapsFlat) {
+    StrokeList list{9, 9, {}};
+    Stroke h, v;
+    h.points = {{0.0, 4.5}, {9.0, 4.5}};
+    v.points = {{4.5, 0.0}, {4.5, 9.0}};
+    h.widths = v.widths = {0.5f, 0.5f};
+    v.id = 1;
+    list.strokes = {h, v};
+    const size_t centre = 4 * 9 + 4;
+    EXPECT_NEAR(rasterizeStrokes(list).hatch0[centre], 0.75f, 1e-6);
+    RasterOptions maxCombine;
+    maxCombine.combine = RasterOptions::Combine::Max;
+    const InkLayers flat = rasterizeStrokes(list, maxCombine);
+    EXPECT_NEAR(flat.hatch0[centre], 0.5f, 1e-6);
+    EXPECT_NEAR(flat.hatch0[4 * 9 + 1], 0.5f, 1e-6); // on one line only: the same as over
+}
+
+TEST(FieldPicture, PaintOverMixesInLinearLightAndKeepsAlpha) {
+    Image im(2, 1, {"R", "G", "B", "A"});
+    std::fill(im.data.begin(), im.data.end(), 1.0f);
+    paintOver(im, {0.5f, 0.0f}, styles::Rgb{0.0, 0.5, 1.0}, 0.5);
+    // a = 0.5 · 0.5 = 0.25: 1 · 0.75 + c · 0.25.
+    EXPECT_FLOAT_EQ(im.at(0, 0, 0), 0.75f);
+    EXPECT_FLOAT_EQ(im.at(0, 0, 1), 0.875f);
+    EXPECT_FLOAT_EQ(im.at(0, 0, 2), 1.0f);
+    EXPECT_FLOAT_EQ(im.at(0, 0, 3), 1.0f);
+    EXPECT_FLOAT_EQ(im.at(1, 0, 0), 1.0f); // no coverage, untouched
 }
