@@ -202,8 +202,8 @@ void addRemeshCommand(CLI::App &app, Action &action) {
                     "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
         ->capture_default_str();
     sub->add_option("--adaptive-scale", opt->adaptiveScale,
-                    "0 (default): edges of length L everywhere; λ in (0, 2]: spacing L e^(λ φ), φ absorbing the field's "
-                    "curl, fewer irregular vertices for a larger edge-length spread (docs/remeshing.md)")
+                    "0 (default): edges of length L everywhere; x in (0, 2]: spacing L exp(x phi), phi absorbing the "
+                    "field's curl: fewer irregular vertices, more spread in edge length (docs/remeshing.md)")
         ->check(CLI::Range(0.0, 2.0))
         ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
