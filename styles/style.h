@@ -33,6 +33,11 @@ struct HatchStyle {
     double angleOffsetDeg = 0.0;    ///< rotates hatch directions on screen
     double spacingJitter = 0.0;     ///< relative random variation of seed spacing
     double minLengthPx = 12.0;      ///< shorter strokes are dropped
+    /// Traced pixels per style pixel (not a scene key): 1, except in print mode, where
+    /// printStyle() sets page.px_mm / (mm per traced px). The tracer's own pixel sizes
+    /// (integration step bounds, wavelengths of pressure and wobble) scale with it, so
+    /// a drawing traced at another pixel pitch keeps their size on paper.
+    double pixelScale = 1.0;
 };
 
 /// Outline strokes.

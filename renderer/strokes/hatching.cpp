@@ -24,8 +24,9 @@ constexpr double kSameFamilyCos = 0.57357643635104609;
 constexpr double kMaxTurnCos = 0.97814760073380564;
 /// d_test / d_sep (Jobard & Lefer 1997; keithfma and anvaka use the same ratio).
 constexpr double kTestRatio = 0.5;
-/// Integration step as a fraction of d_sep, and its bounds in px: the upper bound
-/// keeps steps short enough that the one-pixel silhouette guard band cannot be jumped.
+/// Integration step as a fraction of d_sep, and its bounds in style px (times
+/// HatchStyle::pixelScale, so print mode keeps them on paper at any pitch): the upper
+/// bound keeps steps short enough that the silhouette guard band cannot be jumped.
 constexpr double kStepRatio = 0.2;
 constexpr double kMinStepPx = 0.5;
 constexpr double kMaxStepPx = 2.0;
@@ -616,12 +617,12 @@ private:
     /// Integrates from p along heading h (RK2 midpoint on the line field), appending
     /// samples with arc lengths sign * (distance from the seed).
     void extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
-        const int maxSteps = int(4.0 * (m_field.width + m_field.height) / kMinStepPx);
+        const int maxSteps = int(4.0 * (m_field.width + m_field.height) / m_minStep);
         double arc = 0;
         for (int it = 0; it < maxSteps; ++it) {
             const int ip = pixelIndex(p);
             if (ip < 0) break;
-            const double step = std::clamp(kStepRatio * spacingAt(ip), kMinStepPx, kMaxStepPx);
+            const double step = std::clamp(kStepRatio * spacingAt(ip), m_minStep, m_maxStep);
             Vec2 v1, v2;
             if (!direction(p, h, v1) || v1.dot(h) < kMaxTurnCos) break;
             const Vec2 pm = p + 0.5 * step * v1;
@@ -701,23 +702,30 @@ private:
                 if (x + 1 < w && jump(i, i + 1)) edge[i] = edge[i + 1] = 1;
                 if (y + 1 < h && jump(i, i + size_t(w))) edge[i] = edge[i + size_t(w)] = 1;
             }
-        // One pixel of guard band (8-neighbourhood) keeps stroke centres a pixel away
-        // from the background, so a stroke's width stays on the object.
-        // Separable: a horizontal then a vertical 3-tap maximum; the image border counts as edge.
+        // A guard band of m_guardPx pixels (one style pixel, at least one; square
+        // neighbourhood) keeps stroke centres away from the background, so a stroke's
+        // width stays on the object. Separable: a horizontal then a vertical
+        // (2 m_guardPx + 1)-tap maximum; the image border counts as edge.
+        const int r = m_guardPx;
         std::vector<uint8_t> rows(edge.size(), 0);
         parallelFor(0, h, [&](int64_t y) {
             const uint8_t *e = &edge[size_t(y) * size_t(w)];
             uint8_t *o = &rows[size_t(y) * size_t(w)];
-            for (int x = 0; x < w; ++x)
-                o[x] = uint8_t((x == 0 || e[x - 1]) | e[x] | (x + 1 == w || e[x + 1]));
+            for (int x = 0; x < w; ++x) {
+                uint8_t v = 0;
+                for (int d = -r; d <= r && !v; ++d) v = (x + d < 0 || x + d >= w) ? 1 : e[x + d];
+                o[x] = v;
+            }
         }, 8);
         m_blocked.assign(edge.size(), 0);
         parallelFor(0, h, [&](int64_t y) {
-            const uint8_t *up = y > 0 ? &rows[size_t(y - 1) * size_t(w)] : nullptr;
-            const uint8_t *mid = &rows[size_t(y) * size_t(w)];
-            const uint8_t *down = y + 1 < h ? &rows[size_t(y + 1) * size_t(w)] : nullptr;
             uint8_t *o = &m_blocked[size_t(y) * size_t(w)];
-            for (int x = 0; x < w; ++x) o[x] = uint8_t((!up || up[x]) | mid[x] | (!down || down[x]));
+            for (int x = 0; x < w; ++x) {
+                uint8_t v = 0;
+                for (int d = -r; d <= r && !v; ++d)
+                    v = (y + d < 0 || y + d >= h) ? 1 : rows[size_t(y + d) * size_t(w) + size_t(x)];
+                o[x] = v;
+            }
         }, 8);
     }
 
@@ -733,6 +741,12 @@ private:
     std::vector<uint8_t> m_nearDisc;
     double m_offCos = 1, m_offSin = 0;
     bool m_rotated = false;
+    // Print mode's pixel scale (HatchStyle::pixelScale): the integration step's bounds
+    // and the guard band, in px of this image. The band is at least one pixel and
+    // never narrower than half the longest step, so a step cannot jump it.
+    double m_minStep = kMinStepPx * std::max(m_style.pixelScale, 1e-3);
+    double m_maxStep = std::max(kMaxStepPx * m_style.pixelScale, m_minStep);
+    int m_guardPx = std::max(1, int(std::ceil(0.5 * m_maxStep - 1e-9)));
     int m_family = 0;
     bool m_firstFamilyOnly = true; // no line of the second family traced yet
     Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)
@@ -777,7 +791,7 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
             const double e = std::clamp(std::min(arc[k], length - arc[k]) / taperLen, 0.0, 1.0);
             profile = (kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e)) / meanProfile;
         }
-        const double pressure = 1.0 + style.pressureVariation * noise(arc[k], 61.0, 23.0, ph[0], ph[1]);
+        const double pressure = 1.0 + style.pressureVariation * noise(arc[k], 61.0 * style.pixelScale, 23.0 * style.pixelScale, ph[0], ph[1]);
         stroke.widths[k] = float(std::max(0.0, style.strokeWidthPx * profile * pressure));
     }
     if (style.jitterPx != 0.0 && n >= 2) {
@@ -786,7 +800,7 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
             const Vec2 t = stroke.points[std::min(k + 1, n - 1)] - stroke.points[k > 0 ? k - 1 : 0];
             const double tl = t.norm();
             const Vec2 nrm = tl > 0 ? Vec2(-t.y() / tl, t.x() / tl) : Vec2::Zero();
-            moved[k] = stroke.points[k] + style.jitterPx * noise(arc[k], 41.0, 15.0, ph[2], ph[3]) * nrm;
+            moved[k] = stroke.points[k] + style.jitterPx * noise(arc[k], 41.0 * style.pixelScale, 15.0 * style.pixelScale, ph[2], ph[3]) * nrm;
         }
         stroke.points = std::move(moved);
     }
