@@ -2,12 +2,26 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <unistd.h>
 
 namespace rosy {
 namespace {
 std::atomic<bool> g_enabled{true};
+
+/// Milliseconds of silence before a bar first draws: 1000, or ROSY_PROGRESS_DELAY_MS
+/// (a whole number of ms; anything else keeps the default).
+int64_t delayMs() {
+    static const int64_t ms = [] {
+        const char *v = std::getenv("ROSY_PROGRESS_DELAY_MS");
+        if (!v || !*v) return int64_t(1000);
+        char *end = nullptr;
+        const long long n = std::strtoll(v, &end, 10);
+        return (*end == 0 && n >= 0 && n <= 3600000) ? int64_t(n) : int64_t(1000);
+    }();
+    return ms;
 }
+} // namespace
 
 void setProgressEnabled(bool enabled) { g_enabled = enabled; }
 
@@ -19,6 +33,7 @@ Progress::Progress(std::string label, int64_t total)
 Progress::Progress(std::string label, std::vector<ProgressStage> stages)
     : m_label(std::move(label)), m_total(1), m_start(std::chrono::steady_clock::now()),
       m_active(g_enabled && isatty(STDERR_FILENO) == 1 && !stages.empty()), m_stages(std::move(stages)) {
+    if (m_active && delayMs() == 0) drawStaged(false); // named from the start
     if (m_active) m_ticker = std::thread([this] { tick(); });
 }
 
@@ -49,15 +64,21 @@ void Progress::estimate(const std::vector<ProgressStage> &stages, size_t index, 
 }
 
 void Progress::beginStage(size_t index) {
-    std::lock_guard<std::mutex> lock(m_drawMutex);
-    m_stage = std::min(index, m_stages.empty() ? size_t(0) : m_stages.size() - 1);
-    m_stageStartSec = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    bool show = false;
+    {
+        std::lock_guard<std::mutex> lock(m_drawMutex);
+        m_stage = std::min(index, m_stages.empty() ? size_t(0) : m_stages.size() - 1);
+        m_stageStartSec = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+        // Once the bar shows, a new stage is named at once, not at the next tick.
+        show = m_active && !m_stop && !m_stages.empty() && m_stageStartSec * 1000.0 >= double(delayMs());
+    }
+    if (show) drawStaged(false);
 }
 
 void Progress::tick() {
     std::unique_lock<std::mutex> lock(m_drawMutex);
-    // Silent for the first second, then four redraws a second until finish().
-    if (m_wake.wait_for(lock, std::chrono::seconds(1), [this] { return m_stop; })) return;
+    // Silent for the first second (delayMs()), then four redraws a second until finish().
+    if (m_wake.wait_for(lock, std::chrono::milliseconds(delayMs()), [this] { return m_stop; })) return;
     while (!m_stop) {
         lock.unlock();
         drawStaged(false);
@@ -100,8 +121,8 @@ void Progress::advance(int64_t n) {
     auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(
                   std::chrono::steady_clock::now() - m_start)
                   .count();
-    // Stay silent for the first second; then redraw at most every 100 ms.
-    if (ms < 1000) return;
+    // Stay silent for the first second (delayMs()); then redraw at most every 100 ms.
+    if (ms < delayMs()) return;
     int64_t last = m_lastDrawMs.load();
     if (last >= 0 && ms - last < 100) return;
     if (!m_lastDrawMs.compare_exchange_strong(last, ms)) return;

@@ -5,12 +5,14 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/progress.h"
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <tuple>
 
@@ -152,7 +154,10 @@ std::pair<int, int> printResolution(const SvgOptions &o, int w, int h, double px
     return {side(w), side(h)};
 }
 
-std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, SvgReport *report) {
+namespace {
+
+/// svgDocument(); `progress` (when given) moves to its stage 1 after the plotter pass.
+std::string svgText(const StrokeList &list, const SvgOptions &optionsIn, SvgReport *report, Progress *progress) {
     if (list.width <= 0 || list.height <= 0)
         throw InputError(FileLoc{}, "SVG: stroke list has no size (" + std::to_string(list.width) + "x" +
                                         std::to_string(list.height) + " px)",
@@ -198,6 +203,7 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, Svg
         }
     }
 
+    if (progress) progress->beginStage(1);
     std::string out;
     out.reserve(1 << 20);
     out += "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n";
@@ -278,8 +284,18 @@ std::string svgDocument(const StrokeList &list, const SvgOptions &optionsIn, Svg
     return out;
 }
 
+} // namespace
+
+std::string svgDocument(const StrokeList &list, const SvgOptions &options, SvgReport *report) {
+    return svgText(list, options, report, nullptr);
+}
+
 void writeSvg(const StrokeList &strokes, const SvgOptions &options, const std::string &path, SvgReport *report) {
-    writeTextAtomically(path, svgDocument(strokes, options, report));
+    // The plotter pass is most of a large drawing's write (about 1 s at 4096²): the
+    // display names it, then the file (terminal only, after a second).
+    const std::string name = std::filesystem::path(path).filename().string();
+    Progress progress("writing", {{name + " (plotter pass)", options.plotterPass ? 4.0 : 0.0}, {name, 1.0}});
+    writeTextAtomically(path, svgText(strokes, options, report, &progress));
 }
 
 } // namespace rosy::renderer

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 
 #include <filesystem>
 #include <fstream>
@@ -52,6 +53,31 @@ TEST(RenderCli, WritesImageAndPrintsItsPath) {
     std::string png = slurp(workDir() / "tiny.png");
     ASSERT_GT(png.size(), 8u);
     EXPECT_EQ(png.substr(1, 3), "PNG");
+}
+
+// Issue 18: the display names every long stage, the load and field before the
+// drawing and each write after it. On a terminal (util-linux `script` provides a
+// pseudo-terminal) with ROSY_PROGRESS_DELAY_MS=0, every stage is drawn as it begins.
+TEST(RenderCli, ProgressNamesLoadFieldRenderAndEveryWrite) {
+    if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no `script` (util-linux)";
+    fs::path scene = writeScene("progress.yaml", kTinyScene);
+    const fs::path log = workDir() / "progress.log";
+    fs::remove(log);
+    const std::string cmd = "cd '" + workDir().string() + "' && ROSY_PROGRESS_DELAY_MS=0 script -q -e -c \"'" + kBinary +
+                            "' render '" + scene.string() + "' -o p.svg -o p.exr --report p.json\" '" + log.string() +
+                            "' >/dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const std::string drawn = slurp(log);
+    for (const char *stage : {"preparing: load", "preparing: field", "preparing: bvh", "rendering: hatching",
+                              "writing: p.svg (plotter pass)", "writing: p.svg ", "writing: p.exr (channels)",
+                              "writing: p.exr ", "writing: p.json "})
+        EXPECT_NE(drawn.find(std::string("\r") + stage), std::string::npos) << stage << " in\n" << drawn;
+    // Not on a terminal (a file): nothing, with the same forced delay.
+    ::setenv("ROSY_PROGRESS_DELAY_MS", "0", 1);
+    CliRun quiet = run("render '" + scene.string() + "' -o p.svg", "progress-file");
+    ::unsetenv("ROSY_PROGRESS_DELAY_MS");
+    EXPECT_EQ(quiet.exitCode, 0) << quiet.err;
+    EXPECT_EQ(quiet.err.find("preparing"), std::string::npos) << quiet.err;
 }
 
 TEST(RenderCli, BadSceneExitsTwoWithLocatedMessage) {
