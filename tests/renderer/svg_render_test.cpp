@@ -373,15 +373,19 @@ TEST(PrintMode, SameLineDensityOnPaperForAnyResolutionAndPageSize) {
     std::printf("hatch ink per mm² of picture: 200² %.4f, 400² %.4f; page 60 %.4f, page 85 %.4f (mm/mm²)\n",
                 r200.inkPerMm2, r400.inkPerMm2, small.inkPerMm2, large.inkPerMm2);
     ASSERT_GT(r200.inkPerMm2, 0.05);
-    // Issue 18 asks for 5 %. Measured (2026-12-02): 400²/200² 1.118, page 85/60
-    // 0.944, SVG-only/kept 1.073, against 2.2x without print mode (below). The
-    // remaining spread is the tracer's (renderer/strokes/hatching.cpp), which is not
-    // invariant under a change of pixel pitch even with every length scaled: the
-    // limit here is 15 %, the issue's 5 % is NOT met yet.
-    constexpr double kTolerance = 0.15;
-    EXPECT_NEAR(r400.inkPerMm2 / r200.inkPerMm2, 1.0, kTolerance);
-    EXPECT_NEAR(large.inkPerMm2 / small.inkPerMm2, 1.0, kTolerance);
-    EXPECT_NEAR(small.inkPerMm2 / r200.inkPerMm2, 1.0, kTolerance);
+    // Issue 18 asks for 5 %. Measured (2026-12-02), after the tracer's own pixel sizes
+    // (step bounds, guard band) were made to scale with the pitch (HatchStyle::
+    // pixelScale): 400²/200² 1.041 (1.118 before), page 85/60 0.954 (0.944),
+    // SVG-only (0.17 mm/px) / kept (0.25 mm/px) 1.056 (1.073). Two pitches on one
+    // page are held to the 5 %. The other two pairs keep a margin: on this 50 mm
+    // picture of ~40 strokes the tracer's packing (where seeds land, whether a
+    // cross-hatch stroke survives) scatters ±3 % from one pitch to the next (sd over
+    // 8 pitches, bench/print_density), and a larger page is a larger drawing, where
+    // line ends, singularity discs and silhouette bands (fixed in mm) take a smaller
+    // share (the bunny: A3/A4 1.052, README).
+    EXPECT_NEAR(r400.inkPerMm2 / r200.inkPerMm2, 1.0, 0.05);
+    EXPECT_NEAR(large.inkPerMm2 / small.inkPerMm2, 1.0, 0.07);
+    EXPECT_NEAR(small.inkPerMm2 / r200.inkPerMm2, 1.0, 0.08);
     // Every hatch path has the pen's width.
     for (const PrintRun *r : {&r200, &r400, &small, &large}) EXPECT_EQ(r->ink.widths, (std::set<std::string>{"0.3"}));
     // The measure can fail: without print mode the lengths are pixels, so the
