@@ -7,7 +7,7 @@
 // margins), camera SIDE² px; `keep` traces at SIDE² (a raster output kept the
 // resolution), `svg` lets print mode choose it from PX_MM (default 0.17).
 #include "renderer/illustration.h"
-#include "renderer/svg.h"
+#include "renderer/output/svg.h"
 #include "scenes/pipeline.h"
 #include "scenes/print_units.h"
 #include "scenes/scene.h"

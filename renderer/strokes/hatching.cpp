@@ -791,7 +791,8 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
             const double e = std::clamp(std::min(arc[k], length - arc[k]) / taperLen, 0.0, 1.0);
             profile = (kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e)) / meanProfile;
         }
-        const double pressure = 1.0 + style.pressureVariation * noise(arc[k], 61.0 * style.pixelScale, 23.0 * style.pixelScale, ph[0], ph[1]);
+        const double pressure =
+            1.0 + style.pressureVariation * noise(arc[k], 61.0 * style.pixelScale, 23.0 * style.pixelScale, ph[0], ph[1]);
         stroke.widths[k] = float(std::max(0.0, style.strokeWidthPx * profile * pressure));
     }
     if (style.jitterPx != 0.0 && n >= 2) {
@@ -800,7 +801,8 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
             const Vec2 t = stroke.points[std::min(k + 1, n - 1)] - stroke.points[k > 0 ? k - 1 : 0];
             const double tl = t.norm();
             const Vec2 nrm = tl > 0 ? Vec2(-t.y() / tl, t.x() / tl) : Vec2::Zero();
-            moved[k] = stroke.points[k] + style.jitterPx * noise(arc[k], 41.0 * style.pixelScale, 15.0 * style.pixelScale, ph[2], ph[3]) * nrm;
+            const double wobble = noise(arc[k], 41.0 * style.pixelScale, 15.0 * style.pixelScale, ph[2], ph[3]);
+            moved[k] = stroke.points[k] + style.jitterPx * wobble * nrm;
         }
         stroke.points = std::move(moved);
     }
