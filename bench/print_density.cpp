@@ -3,6 +3,9 @@
 //
 //   build/bench/print_density [PAGE_MM SIDE keep|svg [PX_MM]]...
 //
+// Environment: PRINT_KEYS (the page keys after size and margin), PRINT_STYLE (one
+// more line in the style block, e.g. "seed: 2"), PRINT_DIRECTION (camera direction).
+//
 // Each run: the torus scene of svg_render_test on a square page of PAGE_MM (5 mm
 // margins), camera SIDE² px; `keep` traces at SIDE² (a raster output kept the
 // resolution), `svg` lets print mode choose it from PX_MM (default 0.17).
@@ -24,6 +27,8 @@ int main(int argc, char **argv) {
     const std::string keys = env ? env : "pen_width_mm: 0.3, min_spacing_mm: 0.8, max_spacing_mm: 2.4, min_length_mm: 1";
     const char *envStyle = std::getenv("PRINT_STYLE");
     const std::string style = envStyle ? std::string("  ") + envStyle + "\n" : "";
+    const char *envDirection = std::getenv("PRINT_DIRECTION");
+    const std::string direction = envDirection ? envDirection : "0.2, 1.0, 0.9";
     for (int a = 1; a + 2 < argc; a += 3) {
         const double pageMm = std::atof(argv[a]);
         const int side = std::atoi(argv[a + 1]);
@@ -32,7 +37,7 @@ int main(int argc, char **argv) {
         if (!keep && a + 3 < argc && std::string(argv[a + 3]).find('.') != std::string::npos) pxMm = argv[++a + 2];
         const std::string page = std::to_string(int(pageMm));
         const std::string text =
-            "mesh: {primitive: torus}\ncamera:\n  auto: true\n  direction: [0.2, 1.0, 0.9]\n"
+            "mesh: {primitive: torus}\ncamera:\n  auto: true\n  direction: [" + direction + "]\n"
             "  fov: 30\n  resolution: [" + std::to_string(side) + ", " + std::to_string(side) +
             "]\nlights:\n  - {type: directional, direction: [-0.6, 1.0, 0.7], intensity: 0.9}\n"
             "style:\n  page: {size: " + page + "x" + page + ", margin_mm: 5, " + keys + (pxMm.empty() ? "" : ", px_mm: " + pxMm) + "}\n" + style;
