@@ -244,6 +244,7 @@ void runRender(const RenderOptions &opt) {
         json.field("stubs", il.hatch.stubs);
         json.field("stub_fraction", il.hatch.stubFraction);
         json.field("cross_overdense_fraction", il.hatch.crossOverdenseFraction);
+        json.field("squeezed_fraction", il.hatch.squeezedFraction);
         json.field("singularities", int(result.field.singularities.singularities.size()));
         json.field("symmetry", result.field.field.field.nSym);
         if (svgReport) {

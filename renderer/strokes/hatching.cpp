@@ -957,7 +957,8 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
     const std::vector<Disc> discs = singularityDiscs(field, targetDensity, style, 1.0 - tolerance);
     std::vector<std::vector<int>> partners(hatch.size());
     std::vector<uint8_t> nearSing(hatch.size(), 0);
-    std::vector<double> crossLength(hatch.size(), 0.0), overdenseLength(hatch.size(), 0.0);
+    std::vector<double> crossLength(hatch.size(), 0.0), overdenseLength(hatch.size(), 0.0),
+        squeezedLength(hatch.size(), 0.0);
     parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
         const int k = hatch[size_t(h)];
         const Stroke &a = list.strokes[size_t(k)];
@@ -994,6 +995,39 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
                     }
             if (overdense) overdenseLength[size_t(h)] += weight;
         }
+        // Squeezed runs: stretches of at least one local d_sep along which a line of
+        // the same direction (within 45°, any layer) lies on each side closer than
+        // kSqueezeRatio d_sep: two fronts interleaved at half the spacing.
+        double runStart = -1.0, runEnd = 0.0, arc = 0.0;
+        for (size_t i = 0; i < pts.size(); ++i) {
+            if (i > 0) arc += (pts[i] - pts[i - 1]).norm();
+            const Vec2 ta = (pts[std::min(i + 1, pts.size() - 1)] - pts[i > 0 ? i - 1 : 0]).normalized();
+            const double dSep = spacingAt(pts[i]);
+            const double R = kSqueezeRatio * dSep;
+            bool left = false, right = false;
+            auto [x0, x1] = cellRange(pts[i].x() - R, pts[i].x() + R, nx);
+            auto [y0, y1] = cellRange(pts[i].y() - R, pts[i].y() + R, ny);
+            for (int cy = y0; cy <= y1 && !(left && right); ++cy)
+                for (int cx = x0; cx <= x1 && !(left && right); ++cx)
+                    for (const auto &[kb, j] : cells[size_t(cy) * size_t(nx) + size_t(cx)]) {
+                        if (kb == k) continue;
+                        const Stroke &b = list.strokes[size_t(kb)];
+                        const Vec2 &b0 = b.points[size_t(j)], &b1 = b.points[size_t(j) + 1];
+                        if (std::abs(ta.dot((b1 - b0).normalized())) < kCos45) continue;
+                        if (pointSegmentDistance(pts[i], b0, b1) >= R) continue;
+                        const Vec2 d = 0.5 * (b0 + b1) - pts[i];
+                        (ta.x() * d.y() - ta.y() * d.x() > 0 ? left : right) = true;
+                    }
+            const bool squeezedHere = left && right;
+            if (squeezedHere) {
+                if (runStart < 0) runStart = arc;
+                runEnd = arc;
+            }
+            if (runStart >= 0 && (!squeezedHere || i + 1 == pts.size())) {
+                if (runEnd - runStart >= dSep) squeezedLength[size_t(h)] += runEnd - runStart;
+                runStart = -1.0;
+            }
+        }
         for (const Disc &d : discs)
             for (size_t i = 0; i + 1 < pts.size() && !nearSing[size_t(h)]; ++i)
                 if (pointSegmentDistance(d.centre, pts[i], pts[i + 1]) < d.radius) nearSing[size_t(h)] = 1;
@@ -1005,12 +1039,14 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
         for (int kb : partners[h]) pairs.emplace_back(std::min(k, kb), std::max(k, kb));
         r.strokesNearSingularities += nearSing[h];
     }
-    double cross = 0.0, over = 0.0;
+    double cross = 0.0, over = 0.0, squeezed = 0.0;
     for (size_t h = 0; h < hatch.size(); ++h) {
         cross += crossLength[h];
         over += overdenseLength[h];
+        squeezed += squeezedLength[h];
     }
     r.crossOverdenseFraction = cross > 0.0 ? over / cross : 0.0;
+    r.squeezedFraction = r.inkLengthPx > 0.0 ? squeezed / r.inkLengthPx : 0.0;
     std::sort(pairs.begin(), pairs.end());
     r.minSpacingViolations = int(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
     return r;

@@ -60,10 +60,21 @@ struct HatchReport {
     /// ran through each other) drawing the cross direction at the first family's
     /// spacing: denser than the tone asks for inside the feather band.
     double crossOverdenseFraction = 0.0;
+    /// Share of the hatch ink length lying in squeezed runs: stretches of at least one
+    /// local d_sep along which a line of the same direction (within 45°) lies on each
+    /// side closer than kSqueezeRatio d_sep. Two fronts of parallel lines that run
+    /// through each other at half the spacing make such runs: a patch of double
+    /// density with straight edges.
+    double squeezedFraction = 0.0;
 };
 
 /// A hatch stroke shorter than this many local spacings reads as a dash, not a line.
 inline constexpr double kStubLengthRatio = 4.0;
+
+/// Two same-direction neighbours, one on each side, both closer than this many d_sep
+/// squeeze a line (HatchReport::squeezedFraction). Regular hatching has them at one
+/// d_sep; Jobard–Lefer's d_test lets a line come to half of it where lines converge.
+inline constexpr double kSqueezeRatio = 0.7;
 
 /// Number of hatch families the style asks for at ink density `density` in [0, 1]:
 /// 0 below highlightDensity, 2 at or above crossDensity, else 1. NaN counts as 0.

@@ -390,6 +390,41 @@ TEST(Hatching, StubsAreStrokesShorterThanFourSpacings) {
     EXPECT_DOUBLE_EQ(r.stubFraction, 0.5);
 }
 
+TEST(Hatching, SqueezedRunsAreInterleavedFronts) {
+    // Regular hatching at d_sep = 6 px is not squeezed; three lines run through it at
+    // half the spacing over 40 px (two fronts interleaved): those three and the two
+    // regular lines between them are squeezed over that stretch, the outer two are not
+    // (one neighbour each). A short intrusion (under one d_sep) does not count.
+    Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 1.8, 128, 128);
+    Scene s(field::makeGrid(4), cam);
+    s.field = constantField(*s.frames, 2);
+    s.render();
+    styles::HatchStyle st;
+    const float density = 0.3f;
+    ASSERT_NEAR(familySpacingPx(density, 0, st), 6.0, 1e-6);
+    StrokeList list;
+    list.width = list.height = 128;
+    auto add = [&](double x0, double x1, double y) {
+        Stroke stroke;
+        stroke.kind = StrokeKind::Hatch;
+        stroke.id = uint32_t(list.strokes.size());
+        for (double x = x0; x <= x1 + 1e-9; x += 1.0) stroke.points.push_back(Vec2(x, y));
+        stroke.widths.assign(stroke.points.size(), 1.8f);
+        list.strokes.push_back(stroke);
+    };
+    for (double y : {30.0, 36.0, 42.0, 48.0}) add(20, 120, y);
+    EXPECT_EQ(measureHatches(list, s.screen, s.uniformDensity(density), st).squeezedFraction, 0.0);
+    add(60, 64, 39.0); // 4 px < d_sep
+    EXPECT_EQ(measureHatches(list, s.screen, s.uniformDensity(density), st).squeezedFraction, 0.0);
+    list.strokes.pop_back();
+    for (double y : {33.0, 39.0, 45.0}) add(20, 60, y);
+    const HatchReport r = measureHatches(list, s.screen, s.uniformDensity(density), st);
+    // 3 × 40 px intruding plus 2 × 40–42 px of the regular lines (their squeeze lasts
+    // while an intruder's end is within 0.7 d_sep = 4.2 px), of 4 × 100 + 3 × 40 px.
+    EXPECT_GE(r.squeezedFraction, 200.0 / 520.0 - 1e-9);
+    EXPECT_LE(r.squeezedFraction, 206.0 / 520.0 + 1e-9);
+}
+
 TEST(Hatching, TracedStrokesAreNoStubs) {
     // The tracer drops what the measure would call a stub: on a plane with a tone
     // ramp (so spacing changes along the way) no stroke is shorter than 4 d_sep.
