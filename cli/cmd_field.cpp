@@ -3,6 +3,8 @@
 /// singularities, prints a summary and optionally writes the JSON report and a
 /// PLY export of the member directions, the repaired mesh through OpenMesh's
 /// writers (--export-mesh), and pictures of the field (--image, --image-before).
+/// The work is the field pipeline, scenes::buildSceneField() (a bare mesh becomes a
+/// scene of that mesh alone); this file parses flags, calls it, prints and writes.
 
 #include "cli/commands.h"
 
@@ -21,6 +23,7 @@
 #include "renderer/field_picture.h"
 #include "renderer/output/image.h"
 #include "renderer/output/svg.h"
+#include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
@@ -312,67 +315,58 @@ void runField(const FieldOptions &opt) {
         (!opt.imageBeforePath.empty() && !isSvgPath(opt.imageBeforePath)))
         renderer::preloadImageIo();
 
-    std::vector<std::pair<std::string, double>> ms;
-    auto t0 = Clock::now(), tStart = t0;
-    auto lap = [&](const std::string &stage) {
-        auto t = Clock::now();
-        ms.emplace_back(stage, std::chrono::duration<double, std::milli>(t - t0).count());
-        t0 = t;
-    };
-    field::Mesh mesh;
-    // Pictures use the scene's camera, or a 1024² automatic framing of a bare mesh.
-    std::optional<renderer::Camera> camera;
+    // The field pipeline (scenes/pipeline.h) on the scene, or on a bare mesh as a
+    // scene of that mesh alone (automatic 1024² camera, default key light).
+    scenes::SceneDesc desc;
     if (scene) {
-        scenes::Scene built = scenes::buildScene(*scene, field::LoadOptions{opt.common.maxFaces});
-        mesh = std::move(built.mesh);
-        camera = built.camera;
+        desc = std::move(*scene);
     } else {
-        mesh = field::loadMesh(opt.input, field::LoadOptions{opt.common.maxFaces});
+        desc.path = opt.input;
+        desc.mesh.file = scenes::Located<std::string>{opt.input, FileLoc{opt.input}};
     }
-    if (!camera) camera = renderer::frameMesh(mesh, 1024, 1024);
-    lap("load");
-    const field::MeshStats stats = field::computeStats(mesh);
-    field::TangentFrames frames(mesh);
-    lap("frames");
-    field::FieldResult result = field::buildField(frames, spec);
-    for (const auto &[stage, t] : result.timingsMs) ms.emplace_back(stage, t);
-    t0 = Clock::now();
-    // Renders one picture of `rosyField` with its singularities and (if asked) separatrices.
+    desc.field.spec = spec;
+    desc.field.edits = edits;
+    scenes::PipelineOptions pipeline;
+    pipeline.load = field::LoadOptions{opt.common.maxFaces};
+    if (opt.common.threads > 0) pipeline.threads = opt.common.threads;
+    pipeline.separatrices = opt.separatrices;
+    pipeline.keepUnedited = !opt.imageBeforePath.empty();
+    const auto tStart = Clock::now();
+    const scenes::SceneField built = scenes::buildSceneField(desc, pipeline);
+    const field::Mesh &mesh = built.loaded.scene->mesh;
+    const field::TangentFrames &frames = *built.loaded.frames;
+    const field::FieldResult &result = built.field.field;
+    const field::SingularityReport &report = built.field.singularities;
+    const std::vector<field::Separatrix> &separatrices = built.field.separatrices;
+    const std::vector<scenes::AppliedEdit> &applied = built.field.edits;
+    // Stage milliseconds: the pipeline's, with the field builder's own parts after "field".
+    std::vector<std::pair<std::string, double>> ms;
+    for (const auto &[stage, t] : built.timingsMs) {
+        ms.emplace_back(stage, t);
+        if (stage == "field")
+            for (const auto &[part, tp] : result.timingsMs) ms.emplace_back(part, tp);
+    }
+    // Pictures through the scene's camera.
     auto writePicture = [&](const std::string &path, const field::RosyField &rosyField,
-                            const field::SingularityReport &rep, const std::vector<field::Separatrix> &seps) {
+                            const field::SingularityReport &rep, const std::vector<field::Separatrix> &seps,
+                            const std::string &stage) {
+        const auto t0 = Clock::now();
         const renderer::FieldDrawing drawing =
-            renderer::drawFieldPicture(mesh, frames, rosyField, rep, seps, *camera);
+            renderer::drawFieldPicture(mesh, frames, rosyField, rep, seps, built.loaded.scene->camera);
         // SVG: the strokes through the SVG writer on its pen layers, on the scene's page
         // (A4 for a bare mesh); otherwise the raster picture.
         if (isSvgPath(path))
-            renderer::writeSvg(renderer::fieldPictureStrokes(drawing),
-                               scene ? renderer::svgOptionsFor(scene->style.style.page) : renderer::SvgOptions{}, path);
+            renderer::writeSvg(renderer::fieldPictureStrokes(drawing), renderer::svgOptionsFor(desc.style.style.page),
+                               path);
         else renderer::writeImage(renderer::rasterizeFieldDrawing(drawing), path);
+        ms.emplace_back(stage, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     };
-    std::vector<scenes::AppliedEdit> applied;
-    if (!opt.imageBeforePath.empty()) {
-        const field::SingularityReport before = field::findSingularities(frames, result.field);
-        std::vector<field::Separatrix> seps;
-        if (opt.separatrices) seps = field::traceSeparatrices(frames, result.field, before.singularities);
-        writePicture(opt.imageBeforePath, result.field, before, seps);
-        lap("image-before");
-    }
-    if (!edits.empty()) {
-        applied = scenes::applyFieldEdits(frames, result.field, edits);
-        lap("edits");
-    }
-    const field::SingularityReport report = field::findSingularities(frames, result.field);
-    lap("singularities");
-    std::vector<field::Separatrix> separatrices;
-    if (opt.separatrices) {
-        separatrices = field::traceSeparatrices(frames, result.field, report.singularities);
-        lap("separatrices");
-    }
-    if (!opt.imagePath.empty()) {
-        writePicture(opt.imagePath, result.field, report, separatrices);
-        lap("image");
-    }
+    if (built.field.unedited)
+        writePicture(opt.imageBeforePath, built.field.unedited->field, built.field.unedited->singularities,
+                     built.field.unedited->separatrices, "image-before");
+    if (!opt.imagePath.empty()) writePicture(opt.imagePath, result.field, report, separatrices, "image");
     ms.emplace_back("total", std::chrono::duration<double, std::milli>(Clock::now() - tStart).count());
+    const field::MeshStats stats = field::computeStats(mesh);
 
     int nPos = 0, nNeg = 0;
     for (const auto &s : report.singularities) (s.indexNumerator > 0 ? nPos : nNeg)++;

@@ -43,13 +43,29 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     SceneFieldResult out;
     out.spec = fieldDesc.spec;
     if (options.nSym > 0) out.spec.nSym = options.nSym;
+    const bool editing = options.applyEdits && !fieldDesc.edits.empty();
+    std::optional<field::RosyField> unedited;
     out.field = timed("field", timings, options, [&] {
         field::FieldResult r = field::buildField(*loaded.frames, out.spec);
-        if (options.applyEdits) out.edits = field::applyFieldEdits(*loaded.frames, r.field, fieldDesc.edits);
+        if (editing && options.keepUnedited) unedited = r.field;
+        if (editing) out.edits = field::applyFieldEdits(*loaded.frames, r.field, fieldDesc.edits);
         return r;
     });
+    const field::TangentFrames &frames = *loaded.frames;
     out.singularities = timed("singularities", timings, options,
-                              [&] { return field::findSingularities(*loaded.frames, out.field.field); });
+                              [&] { return field::findSingularities(frames, out.field.field); });
+    if (options.separatrices)
+        out.separatrices = timed("separatrices", timings, options, [&] {
+            return field::traceSeparatrices(frames, out.field.field, out.singularities.singularities);
+        });
+    if (unedited)
+        out.unedited = timed("unedited", timings, options, [&] {
+            SceneFieldResult::Unedited u{std::move(*unedited), {}, {}};
+            u.singularities = field::findSingularities(frames, u.field);
+            if (options.separatrices)
+                u.separatrices = field::traceSeparatrices(frames, u.field, u.singularities.singularities);
+            return u;
+        });
     return out;
 }
 

@@ -51,6 +51,13 @@ struct PipelineOptions {
     /// Applies the scene's `field.edits`. Their ids name singularities of the
     /// scene's own field, so callers that change N usually turn them off.
     bool applyEdits = true;
+    /// Field-only entry: also trace the separatrices of the field (stage
+    /// "separatrices"; SceneFieldResult::separatrices).
+    bool separatrices = false;
+    /// Field-only entry: when edits were applied, keep the field as it was before
+    /// them with its singularities (and separatrices, with `separatrices`), in
+    /// SceneFieldResult::unedited (stage "unedited"), e.g. to draw it beside the edited one.
+    bool keepUnedited = false;
     /// Runs right after the scene is built, before any field work: may change the
     /// scene (a benchmark subdivides the mesh) or refuse it by throwing (the CLI's
     /// memory check). Counted in the "load" stage's time.
@@ -90,6 +97,14 @@ struct SceneFieldResult {
     field::FieldResult field;             ///< field.field: after the edits
     std::vector<field::AppliedEdit> edits; ///< the scene's edits as applied (empty when off)
     field::SingularityReport singularities; ///< of field.field
+    std::vector<field::Separatrix> separatrices; ///< of field.field, with PipelineOptions::separatrices
+    /// The field before the edits (PipelineOptions::keepUnedited, when there were edits).
+    struct Unedited {
+        field::RosyField field;
+        field::SingularityReport singularities;
+        std::vector<field::Separatrix> separatrices; ///< with PipelineOptions::separatrices
+    };
+    std::optional<Unedited> unedited;
 };
 
 /// The field stage of a scene on its own: the loaded scene and its field.
@@ -118,13 +133,14 @@ LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options = {}
 
 /// The field of `fieldDesc` (symmetry replaced by options.nSym when > 0) on a
 /// loaded scene: buildField(), the edits when options.applyEdits, and the
-/// singularities of the result. Stages "field" and "singularities".
+/// singularities of the result. Stages "field" and "singularities", then
+/// "separatrices" and "unedited" when options ask for them.
 /// \throws InputError at an edit's location when it cannot be applied.
 SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fieldDesc,
                                  const PipelineOptions &options = {}, StageTimings *timings = nullptr);
 
-/// The field-only pipeline: loadScene() then buildSceneField() under the thread
-/// limit of options.threads / the scene's `threads`.
+/// The field-only pipeline (`rosyhatch field`): loadScene() then buildSceneField()
+/// under the thread limit of options.threads / the scene's `threads`.
 SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options = {});
 
 /// The pen-and-ink drawing of `rosyField` (with its singularities) on a loaded

@@ -258,6 +258,29 @@ TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
     EXPECT_GE(layerPaths("2 cross-hatch"), 1);
     EXPECT_EQ(layerPaths("3 contours"), 1);
 
+    // --image-before: the field before the scene's edit (the +1/4, −1/4 pair: two
+    // dots), --image after it (no singularity left: an empty dot layer).
+    fs::path edit = writeScene("field-svg-edit.yaml",
+                               "mesh: {primitive: disk}\ncamera: {resolution: [128, 128]}\n"
+                               "field:\n  source: design\n"
+                               "  elements: [{position: [-0.3, 0.05, 0], order: 1}, {position: [0.3, -0.05, 0], order: -1}]\n"
+                               "  edits: [{cancel: [0, 1]}]\n");
+    CliRun both = run("field '" + edit.string() + "' --image-before before.svg --image after.svg --quiet",
+                      "field-svg-before");
+    ASSERT_EQ(both.exitCode, 0) << both.err;
+    auto dots = [&](const std::string &file) {
+        const std::string text = slurp(workDir() / file);
+        const size_t at = text.find("inkscape:label=\"3 contours\"");
+        if (at == std::string::npos) return -1;
+        int n = 0;
+        for (size_t p = text.find("<path ", at); p != std::string::npos && p < text.find("</g>", at);
+             p = text.find("<path ", p + 1))
+            ++n;
+        return n;
+    };
+    EXPECT_EQ(dots("before.svg"), 2);
+    EXPECT_EQ(dots("after.svg"), 0);
+
     std::ofstream(workDir() / "field-pic.xyz") << "old";
     CliRun bad = run("field '" + scene.string() + "' --image field-pic.xyz", "field-svg-ext");
     EXPECT_EQ(bad.exitCode, 2) << bad.err;

@@ -101,6 +101,29 @@ TEST(BuildSceneField, AppliesTheSceneEditsUnlessTurnedOff) {
     EXPECT_EQ(stageNames(plain.timingsMs), (std::vector<std::string>{"load", "frames", "field", "singularities"}));
 }
 
+// What `rosyhatch field` asks of the field-only entry: separatrices of the result,
+// and the field before the edits (for --image-before) with its own singularities.
+TEST(BuildSceneField, KeepsTheUneditedFieldAndTracesSeparatricesOnRequest) {
+    const scenes::SceneDesc desc = scenes::parseScene(kDiskWithEdit, kScenePath);
+    scenes::PipelineOptions options;
+    options.separatrices = true;
+    options.keepUnedited = true;
+    const scenes::SceneField sf = scenes::buildSceneField(desc, options);
+    EXPECT_TRUE(sf.field.singularities.singularities.empty()); // the pair was cancelled
+    EXPECT_TRUE(sf.field.separatrices.empty());                // so nothing to trace from
+    ASSERT_TRUE(sf.field.unedited.has_value());
+    ASSERT_EQ(sf.field.unedited->singularities.singularities.size(), 2u);
+    EXPECT_EQ(sf.field.unedited->singularities.indexNumeratorSum, 0);
+    EXPECT_FALSE(sf.field.unedited->separatrices.empty()); // the −1/4 one has N + 1 = 5
+    EXPECT_EQ(stageNames(sf.timingsMs), (std::vector<std::string>{"load", "frames", "field", "singularities",
+                                                                  "separatrices", "unedited"}));
+    // Without edits there is no "before".
+    options.applyEdits = false;
+    const scenes::SceneField plain = scenes::buildSceneField(desc, options);
+    EXPECT_FALSE(plain.field.unedited.has_value());
+    EXPECT_FALSE(plain.field.separatrices.empty());
+}
+
 TEST(BuildSceneField, SymmetryOverrideReplacesTheScenesN) {
     const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
     scenes::PipelineOptions two;
