@@ -5,6 +5,7 @@
 #include "core/parallel.h"
 #include "field/smoothing.h"
 
+#include "field/mesh/closest_point.h"
 #include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
@@ -16,29 +17,6 @@
 
 namespace rosy::field {
 namespace {
-
-// Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closestOnTriangle(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return a;
-    const Vec3 bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return b;
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-    const Vec3 cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return c;
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    const double denom = va + vb + vc;
-    if (!(std::abs(denom) > 0)) return a; // degenerate triangle
-    return a + ab * (vb / denom) + ac * (vc / denom);
-}
 
 // Vertex components through edges (ids by smallest vertex, deterministic).
 std::vector<int> vertexComponents(const Mesh &mesh, int &nComp) {
@@ -76,7 +54,7 @@ SnappedElement snapToSurface(const Mesh &mesh, const Vec3 &p) {
     best.distance = std::numeric_limits<double>::infinity();
     for (int f = 0; f < mesh.nFaces(); ++f) {
         const Face &t = mesh.face(f);
-        Vec3 q = closestOnTriangle(p, mesh.position(t[0]), mesh.position(t[1]), mesh.position(t[2]));
+        Vec3 q = closestPointOnTriangle(p, mesh.position(t[0]), mesh.position(t[1]), mesh.position(t[2]));
         double d = (q - p).norm();
         if (d < best.distance) best = {f, q, d};
     }

@@ -6,6 +6,7 @@
 /// (one-sided Hausdorff distances). Deterministic: same input, same answers.
 
 #include "field/mesh.h"
+#include "field/mesh/closest_point.h"
 
 #include <array>
 #include <vector>
@@ -21,8 +22,7 @@ struct ClosestPoint {
     double distance2 = 0; ///< squared distance to the query
 };
 
-/// Closest point to `p` on triangle (a, b, c), degenerate triangles included.
-Vec3 closestPointOnTriangle(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c);
+using field::closestPointOnTriangle;
 
 class AabbTree {
 public:

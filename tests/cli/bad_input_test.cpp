@@ -3,6 +3,7 @@
 // outputs, and the atomic-output promise: after any failure the previous file
 // is byte-identical and no temporary file is left in the folder.
 
+#include "cli_util.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -22,19 +23,11 @@ namespace {
 
 const std::string kBinary = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
 
-fs::path workDir() {
-    const auto *info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "bad_input" / info->name();
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("bad_input", true); }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using rosy::test::slurp;
 
-void put(const fs::path &p, const std::string &text) { std::ofstream(p, std::ios::binary) << text; }
+using rosy::test::put;
 
 struct CliRun {
     int exitCode;

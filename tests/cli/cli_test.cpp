@@ -19,11 +19,7 @@ namespace {
 
 const std::string kBinary = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
 
-fs::path workDir() {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "cli";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("cli"); }
 
 using rosy::test::CliRun;
 using rosy::test::slurp;

@@ -2,6 +2,8 @@
 /// \file cli_util.h
 /// Running the rosyhatch binary from the end-to-end tests in this folder.
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +12,21 @@
 #include <sys/wait.h>
 
 namespace rosy::test {
+
+/// build/test-output/NAME, created: the folder a test program writes into. With
+/// perTest, a sub-folder named after the running test; with fresh, emptied first.
+inline std::filesystem::path testOutputDir(const std::string &name, bool perTest = false, bool fresh = false) {
+    std::filesystem::path dir = std::filesystem::path(ROSY_BINARY_DIR) / "test-output" / name;
+    if (perTest) dir /= ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    if (fresh) std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+/// Writes `text` to p, bytes as given.
+inline void put(const std::filesystem::path &p, const std::string &text) {
+    std::ofstream(p, std::ios::binary) << text;
+}
 
 /// The whole content of a file ("" when it cannot be read).
 inline std::string slurp(const std::filesystem::path &p) {

@@ -2,6 +2,7 @@
 // bytes of PNG, EXR, SVG and report for 1, 2 and 8 threads and across runs,
 // and no file carries a time stamp or the host's name.
 
+#include "cli_util.h"
 #include <OpenImageIO/imageio.h>
 
 #include <gtest/gtest.h>
@@ -18,16 +19,9 @@ namespace {
 
 const std::string kBinary = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
 
-fs::path workDir() {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "determinism";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("determinism"); }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using rosy::test::slurp;
 
 int run(const std::string &args, const std::string &tag) {
     const fs::path dir = workDir();

@@ -21,11 +21,7 @@ namespace {
 
 const std::string kBinary = std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
 
-fs::path workDir() {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "diff-cli";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("diff-cli"); }
 
 using rosy::test::CliRun;
 using rosy::test::slurp;

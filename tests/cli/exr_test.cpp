@@ -21,11 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path workDir() {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "exr-cli";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("exr-cli"); }
 
 using rosy::test::CliRun;
 

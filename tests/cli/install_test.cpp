@@ -18,11 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path workDir() {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "install-cli";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("install-cli"); }
 
 using rosy::test::CliRun;
 using rosy::test::slurp;

@@ -7,6 +7,7 @@
 // ROSY_CLI_UNDER_TEST=PATH runs the tests against another rosyhatch binary (to
 // check that they fail on a build without the fixes).
 
+#include "cli_util.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -34,20 +35,11 @@ std::string binary() {
     return std::string(ROSY_BINARY_DIR) + "/cli/rosyhatch";
 }
 
-fs::path workDir() {
-    const auto *info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "reliability" / info->name();
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("reliability", true, true); }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using rosy::test::slurp;
 
-void put(const fs::path &p, const std::string &text) { std::ofstream(p, std::ios::binary) << text; }
+using rosy::test::put;
 
 struct CliRun {
     int exitCode;

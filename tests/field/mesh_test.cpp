@@ -1,13 +1,16 @@
 // Tests of Mesh::fromTriangles (connectivity invariants) and mesh_stats.
 #include "core/error.h"
 #include "field/mesh.h"
+#include "field/mesh/closest_point.h"
 #include "field/mesh_stats.h"
 #include "field/primitives.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 using namespace rosy;
@@ -152,4 +155,39 @@ TEST(MeshStats, TorusHasGenusOne) {
     EXPECT_EQ(s.eulerCharacteristic, 0);
     EXPECT_EQ(s.genus, 1);
     EXPECT_EQ(s.boundaryLoops, 0);
+}
+
+// closestPointOnTriangle against brute force: the minimum distance over a fine
+// barycentric grid of the triangle is at least the function's (it is the minimum)
+// and exceeds it by at most the grid's resolution.
+TEST(ClosestPoint, MatchesABruteForceSearch) {
+    uint32_t state = 12345u;
+    auto uniform = [&]() { // xorshift32 in [-1, 1)
+        state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+        return double(state) / 2147483648.0 - 1.0;
+    };
+    const int n = 200;
+    for (int trial = 0; trial < 60; ++trial) {
+        const Vec3 a(uniform(), uniform(), uniform()), b(uniform(), uniform(), uniform());
+        // Every tenth triangle degenerate: c on the line through a and b.
+        const Vec3 c = trial % 10 == 0 ? Vec3(a + 1.7 * (b - a)) : Vec3(uniform(), uniform(), uniform());
+        const Vec3 p(2 * uniform(), 2 * uniform(), 2 * uniform());
+        const Vec3 q = closestPointOnTriangle(p, a, b, c);
+        ASSERT_TRUE(q.allFinite()) << trial;
+        double brute = std::numeric_limits<double>::infinity();
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; i + j <= n; ++j) {
+                const Vec3 s = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+                brute = std::min(brute, (p - s).norm());
+            }
+        const double got = (p - q).norm();
+        const double res = 2.0 * std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()}) / n;
+        EXPECT_LE(got, brute + 1e-12) << trial;
+        EXPECT_GE(got, brute - res) << trial;
+        // q lies on the triangle: inside its plane and its bounding box.
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GE(q[k], std::min({a[k], b[k], c[k]}) - 1e-12);
+            EXPECT_LE(q[k], std::max({a[k], b[k], c[k]}) + 1e-12);
+        }
+    }
 }
