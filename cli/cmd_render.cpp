@@ -12,6 +12,7 @@
 #include "core/json.h"
 #include "core/memory.h"
 #include "core/progress.h"
+#include "renderer/field_picture.h"
 #include "renderer/illustration.h"
 #include "renderer/output/image.h"
 #include "renderer/output/image_io.h"
@@ -117,9 +118,6 @@ void runRender(const RenderOptions &opt) {
     const std::string svgPath = svgPaths.empty() ? std::string() : svgPaths.front();
     renderer::SvgOptions svgOptions = renderer::svgOptionsFor(desc.style.style.page);
     svgOptions.plotterPass = !opt.noPlotter;
-    if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !svgPath.empty())
-        throw InputError(desc.picture.kind.loc, "a field picture is an image, not strokes, so it has no SVG",
-                         "write .png/.exr/.tif/.jpg, or use picture.kind: hatching for an SVG");
     if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !opt.reportPath.empty())
         throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
                          "drop --report, or set picture.kind: hatching");
@@ -193,6 +191,10 @@ void runRender(const RenderOptions &opt) {
     for (const auto &[stage, ms] : result.timingsMs) timings.add(stage, ms);
     if (result.fieldPicture) {
         timings.time("write", [&] {
+            // SVG: the picture's streamlines, separatrices and dots on pen layers
+            // (renderer/field_picture.h), as `rosyhatch field --image x.svg` writes them.
+            for (const std::string &o : svgPaths)
+                renderer::writeSvg(renderer::fieldPictureStrokes(*result.fieldDrawing), svgOptions, o);
             for (const std::string &o : rasterPaths) renderer::writeImage(*result.fieldPicture, o);
         });
         if (!opt.common.timingsPath.empty())

@@ -113,9 +113,12 @@ RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options) 
         // Without a `lights` key the picture keeps its own light rather than the
         // default key light buildScene() adds for hatching.
         if (desc.lightsGiven) pictureOptions.lights = out.loaded.scene->lights;
+        // The drawing (fill and strokes) for an SVG, and its pixels: renderFieldPicture()
+        // is exactly rasterizeFieldDrawing(drawFieldPicture()).
         out.fieldPicture = timed("field_picture", &out.timingsMs, options, [&] {
-            return renderer::renderFieldPicture(out.loaded.scene->mesh, frames, rosyField, singularities,
-                                                out.separatrices, out.loaded.scene->camera, pictureOptions);
+            out.fieldDrawing = renderer::drawFieldPicture(out.loaded.scene->mesh, frames, rosyField, singularities,
+                                                          out.separatrices, out.loaded.scene->camera, pictureOptions);
+            return renderer::rasterizeFieldDrawing(*out.fieldDrawing);
         });
         return out;
     }

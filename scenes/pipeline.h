@@ -20,6 +20,7 @@
 #include "field/separatrices.h"
 #include "field/singularities.h"
 #include "renderer/view/embree_scene.h"
+#include "renderer/field_picture.h"
 #include "renderer/illustration.h"
 #include "renderer/output/image.h"
 #include "scenes/scene.h"
@@ -122,6 +123,7 @@ struct RenderResult : SceneField {
     std::optional<renderer::Illustration> illustration; ///< hatching: strokes, layers, composite
     std::vector<field::Separatrix> separatrices;        ///< field pictures with `separatrices: true`
     std::optional<renderer::Image> fieldPicture;        ///< the field picture (linear RGB + alpha)
+    std::optional<renderer::FieldDrawing> fieldDrawing; ///< its fill and strokes (fieldPictureStrokes() for an SVG)
     // timingsMs continues with bvh and the illustration's stages (gbuffer, tone,
     // screen_field, hatching, contours, raster), or separatrices and field_picture.
 };

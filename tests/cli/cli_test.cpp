@@ -223,6 +223,38 @@ TEST(FieldCli, ExportMeshAndTimingsFileAreWritten) {
 
 // --image OUT.svg: the field picture's strokes through the SVG writer, on its pen
 // layers; an unknown extension is refused before any work.
+TEST(RenderCli, FieldPictureAsSvgBesideItsPng) {
+    // `render` of a field picture writes the same pen layers as `field --image x.svg`,
+    // and the PNG written with it is the PNG written alone, byte for byte.
+    fs::path scene = writeScene("render-field-svg.yaml", "mesh: {primitive: disk}\n"
+                                                         "camera: {resolution: [128, 128]}\n"
+                                                         "picture: {kind: field, separatrices: true}\n"
+                                                         "field:\n  source: design\n"
+                                                         "  elements: [{position: [0.2, -0.1, 0], order: -1}]\n");
+    for (const char *f : {"rf.svg", "rf.png", "rf-alone.png"}) fs::remove(workDir() / f);
+    CliRun both = run("render '" + scene.string() + "' -o rf.svg -o rf.png --quiet", "render-field-svg");
+    ASSERT_EQ(both.exitCode, 0) << both.err;
+    CliRun alone = run("render '" + scene.string() + "' -o rf-alone.png --quiet", "render-field-png");
+    ASSERT_EQ(alone.exitCode, 0) << alone.err;
+    EXPECT_EQ(slurp(workDir() / "rf.png"), slurp(workDir() / "rf-alone.png"));
+    const std::string svg = slurp(workDir() / "rf.svg");
+    ASSERT_EQ(svg.rfind("<?xml", 0), 0u) << svg.substr(0, 200);
+    auto layerPaths = [&](const std::string &label) {
+        const size_t at = svg.find("inkscape:label=\"" + label + "\"");
+        if (at == std::string::npos) return -1;
+        int n = 0;
+        const size_t end = svg.find("</g>", at);
+        for (size_t p = svg.find("<path ", at); p != std::string::npos && p < end; p = svg.find("<path ", p + 1)) ++n;
+        return n;
+    };
+    EXPECT_GT(layerPaths("1 hatch"), 10);        // streamlines
+    EXPECT_GE(layerPaths("2 cross-hatch"), 1);   // separatrices
+    EXPECT_EQ(layerPaths("3 contours"), 1);      // the one singularity's dot
+    // The report still needs strokes of a hatching.
+    CliRun report = run("render '" + scene.string() + "' -o rf.svg --report rf.json --quiet", "render-field-report");
+    EXPECT_EQ(report.exitCode, 2) << report.err;
+}
+
 TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
     fs::path scene = writeScene("field-svg.yaml", "mesh: {primitive: disk}\n"
                                                   "camera: {resolution: [128, 128]}\n"
