@@ -6,6 +6,7 @@
 
 #include "field/mesh_io.h"
 #include "studio/display_mesh.h"
+#include "studio_test_util.h"
 #include "studio/server.h"
 #include "studio/studio.h"
 
@@ -30,16 +31,8 @@ namespace {
 
 const std::string kHead = std::string(ROSY_DATA_DIR) + "/meshes/head.off";
 
-uint32_t u32(const std::string &s, size_t at) {
-    uint32_t v;
-    std::memcpy(&v, s.data() + at, 4);
-    return v;
-}
-float f32(const std::string &s, size_t at) {
-    float v;
-    std::memcpy(&v, s.data() + at, 4);
-    return v;
-}
+using rosy::test::f32;
+using rosy::test::u32;
 
 double area(const rosy::field::Mesh &mesh, const std::vector<rosy::field::Face> &faces, const std::vector<int> &map) {
     double a = 0;
@@ -72,36 +65,15 @@ double bruteForceHit(const rosy::field::Mesh &mesh, const Vec3 &o, const Vec3 &d
     return best;
 }
 
-class StudioDisplay : public ::testing::Test {
+class StudioDisplay : public rosy::test::StudioFixture {
 protected:
     void SetUp() override {
-        dir = fs::temp_directory_path() / ("rosy-studio-display-" + std::to_string(::getpid()) + "-" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-        scenePath = (dir / "head.yaml").string();
-        std::ofstream(scenePath) << "mesh: " << kHead
-                                 << "\ncamera:\n  auto: true\n  resolution: [128, 96]\nfield:\n  symmetry: 4\n";
         rosy::studio::StudioOptions o;
         o.displayAbove = 1000;
         o.displayFaces = 800;
-        studio = std::make_unique<rosy::studio::Studio>(scenePath, o);
-        server = std::make_unique<rosy::studio::StudioServer>(*studio, rosy::studio::ServerOptions{});
-        port = server->bind();
-        server->start();
-        client = std::make_unique<httplib::Client>("127.0.0.1", port);
-        client->set_default_headers({{"X-Rosy-Token", server->token()}});
+        serve("rosy-studio-display-",
+              "mesh: " + kHead + "\ncamera:\n  auto: true\n  resolution: [128, 96]\nfield:\n  symmetry: 4\n", o);
     }
-    void TearDown() override {
-        server->stop();
-        fs::remove_all(dir);
-    }
-    fs::path dir;
-    std::string scenePath;
-    std::unique_ptr<rosy::studio::Studio> studio;
-    std::unique_ptr<rosy::studio::StudioServer> server;
-    std::unique_ptr<httplib::Client> client;
-    int port = 0;
 };
 
 } // namespace

@@ -7,6 +7,7 @@
 #include "field/mesh_io.h"
 #include "studio/server.h"
 #include "studio/studio.h"
+#include "studio_test_util.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -41,16 +42,8 @@ std::string slurp(const fs::path &p) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-uint32_t u32(const std::string &s, size_t at) {
-    uint32_t v;
-    std::memcpy(&v, s.data() + at, 4);
-    return v;
-}
-float f32(const std::string &s, size_t at) {
-    float v;
-    std::memcpy(&v, s.data() + at, 4);
-    return v;
-}
+using rosy::test::f32;
+using rosy::test::u32;
 
 /// The JSON of an edit response ("RSE1", length, JSON, field).
 json editJson(const std::string &body) {
@@ -97,28 +90,13 @@ int statusOf(const std::string &answer) {
     return answer.size() > 12 && answer.rfind("HTTP/1.1 ", 0) == 0 ? std::stoi(answer.substr(9, 3)) : -1;
 }
 
-class Studio : public ::testing::Test {
+class Studio : public rosy::test::StudioFixture {
 protected:
     void SetUp() override {
-        dir = fs::temp_directory_path() / ("rosy-studio-test-" + std::to_string(::getpid()) + "-" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-        scenePath = (dir / "head.yaml").string();
-        std::ofstream(scenePath) << "# a comment the save keeps\nmesh: " << kHead
-                                 << "\ncamera:\n  auto: true\n  direction: [-0.6, 0.2, 1.0]\n  fov: 30\n"
-                                    "  resolution: [256, 192]\nfield:\n  symmetry: 4\nstyle:\n  ambient: 0.08\n"
-                                    "output: head.png\n";
-        studio = std::make_unique<rosy::studio::Studio>(scenePath);
-        server = std::make_unique<rosy::studio::StudioServer>(*studio, rosy::studio::ServerOptions{});
-        port = server->bind();
-        server->start();
-        client = std::make_unique<httplib::Client>("127.0.0.1", port);
-        client->set_default_headers({{"X-Rosy-Token", server->token()}});
-    }
-    void TearDown() override {
-        server->stop();
-        fs::remove_all(dir);
+        serve("rosy-studio-test-", "# a comment the save keeps\nmesh: " + kHead +
+                                       "\ncamera:\n  auto: true\n  direction: [-0.6, 0.2, 1.0]\n  fov: 30\n"
+                                       "  resolution: [256, 192]\nfield:\n  symmetry: 4\nstyle:\n  ambient: 0.08\n"
+                                       "output: head.png\n");
     }
     json state() {
         auto r = client->Get("/api/state");
@@ -138,13 +116,6 @@ protected:
             }
         return best;
     }
-
-    fs::path dir;
-    std::string scenePath;
-    std::unique_ptr<rosy::studio::Studio> studio;
-    std::unique_ptr<rosy::studio::StudioServer> server;
-    std::unique_ptr<httplib::Client> client;
-    int port = 0;
 };
 
 TEST_F(Studio, ServesThePageAndThreeJsWithTheToken) {
