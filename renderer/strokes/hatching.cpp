@@ -922,19 +922,6 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
         return kTestRatio * familySpacingPx(clampDensity(targetDensity[i]), 1, style, w);
     };
 
-    // Stubs: strokes shorter than kStubLengthRatio local spacings.
-    for (int k : hatch) {
-        const Stroke &s = list.strokes[size_t(k)];
-        double length = 0.0, spacing = 0.0;
-        for (size_t i = 0; i < s.points.size(); ++i) {
-            if (i > 0) length += (s.points[i] - s.points[i - 1]).norm();
-            spacing += spacingAt(s.points[i]);
-        }
-        spacing /= double(s.points.size());
-        if (length < kStubLengthRatio * spacing) ++r.stubs;
-    }
-    r.stubFraction = double(r.stubs) / double(hatch.size());
-
     // Segment grid, independent of the tracer's sample grid: every segment is entered
     // in each cell its bounding box touches.
     const double cell = std::max(2.0, style.minSpacingPx);
@@ -959,50 +946,53 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
     std::vector<uint8_t> nearSing(hatch.size(), 0);
     std::vector<double> crossLength(hatch.size(), 0.0), overdenseLength(hatch.size(), 0.0),
         squeezedLength(hatch.size(), 0.0);
+    std::vector<uint8_t> isStub(hatch.size(), 0);
     parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
         const int k = hatch[size_t(h)];
         const Stroke &a = list.strokes[size_t(k)];
         const auto &pts = a.points;
         std::vector<int> &mine = partners[size_t(h)];
+        // One pass over the points: each point's central-chord tangent and local d_sep
+        // serve the stub length, the spacing test and the squeezed runs.
+        double runStart = -1.0, runEnd = 0.0, arc = 0.0, spacingSum = 0.0;
         for (size_t i = 0; i < pts.size(); ++i) {
+            if (i > 0) arc += (pts[i] - pts[i - 1]).norm();
             const Vec2 ta = (pts[std::min(i + 1, pts.size() - 1)] - pts[i > 0 ? i - 1 : 0]).normalized();
-            const double rA = dTestAt(pts[i]);
+            const double dSep = spacingAt(pts[i]);
+            spacingSum += dSep;
+            const double rA = kTestRatio * dSep; // dTestAt(pts[i])
             const double r1A = a.family == 1 ? dTest1At(pts[i]) : 0.0;
             const double reach = std::max(rA, r1A);
             const double weight = 0.5 * ((i > 0 ? (pts[i] - pts[i - 1]).norm() : 0.0) +
                                          (i + 1 < pts.size() ? (pts[i + 1] - pts[i]).norm() : 0.0));
             if (a.family == 1) crossLength[size_t(h)] += weight;
             bool overdense = false;
-            auto [x0, x1] = cellRange(pts[i].x() - reach, pts[i].x() + reach, nx);
-            auto [y0, y1] = cellRange(pts[i].y() - reach, pts[i].y() + reach, ny);
-            for (int cy = y0; cy <= y1; ++cy)
-                for (int cx = x0; cx <= x1; ++cx)
-                    for (const auto &[kb, j] : cells[size_t(cy) * size_t(nx) + size_t(cx)]) {
-                        if (kb == k) continue;
-                        const Stroke &b = list.strokes[size_t(kb)];
-                        if (b.family != a.family) continue;
-                        const Vec2 &b0 = b.points[size_t(j)], &b1 = b.points[size_t(j) + 1];
-                        const Vec2 tb = (b1 - b0).normalized();
-                        if (std::abs(ta.dot(tb)) < kCos45) continue;
-                        const double dist = pointSegmentDistance(pts[i], b0, b1);
-                        // Closer than d_test wherever it is evaluated (tone may differ
-                        // between the two points), less the polyline chord tolerance.
-                        const double r = (1.0 - tolerance) * std::min(rA, dTestAt(0.5 * (b0 + b1)));
-                        if (dist < r) mine.push_back(kb);
-                        if (a.family == 1 && !overdense &&
-                            dist < (1.0 - tolerance) * std::min(r1A, dTest1At(0.5 * (b0 + b1))))
-                            overdense = true;
-                    }
+            {
+                auto [x0, x1] = cellRange(pts[i].x() - reach, pts[i].x() + reach, nx);
+                auto [y0, y1] = cellRange(pts[i].y() - reach, pts[i].y() + reach, ny);
+                for (int cy = y0; cy <= y1; ++cy)
+                    for (int cx = x0; cx <= x1; ++cx)
+                        for (const auto &[kb, j] : cells[size_t(cy) * size_t(nx) + size_t(cx)]) {
+                            if (kb == k) continue;
+                            const Stroke &b = list.strokes[size_t(kb)];
+                            if (b.family != a.family) continue;
+                            const Vec2 &b0 = b.points[size_t(j)], &b1 = b.points[size_t(j) + 1];
+                            const Vec2 tb = (b1 - b0).normalized();
+                            if (std::abs(ta.dot(tb)) < kCos45) continue;
+                            const double dist = pointSegmentDistance(pts[i], b0, b1);
+                            // Closer than d_test wherever it is evaluated (tone may differ
+                            // between the two points), less the polyline chord tolerance.
+                            const double r = (1.0 - tolerance) * std::min(rA, dTestAt(0.5 * (b0 + b1)));
+                            if (dist < r) mine.push_back(kb);
+                            if (a.family == 1 && !overdense &&
+                                dist < (1.0 - tolerance) * std::min(r1A, dTest1At(0.5 * (b0 + b1))))
+                                overdense = true;
+                        }
+            }
             if (overdense) overdenseLength[size_t(h)] += weight;
-        }
-        // Squeezed runs: stretches of at least one local d_sep along which a line of
-        // the same direction (within 45°, any layer) lies on each side closer than
-        // kSqueezeRatio d_sep: two fronts interleaved at half the spacing.
-        double runStart = -1.0, runEnd = 0.0, arc = 0.0;
-        for (size_t i = 0; i < pts.size(); ++i) {
-            if (i > 0) arc += (pts[i] - pts[i - 1]).norm();
-            const Vec2 ta = (pts[std::min(i + 1, pts.size() - 1)] - pts[i > 0 ? i - 1 : 0]).normalized();
-            const double dSep = spacingAt(pts[i]);
+            // Squeezed runs: stretches of at least one local d_sep along which a line of
+            // the same direction (within 45°, any layer) lies on each side closer than
+            // kSqueezeRatio d_sep: two fronts interleaved at half the spacing.
             const double R = kSqueezeRatio * dSep;
             bool left = false, right = false;
             auto [x0, x1] = cellRange(pts[i].x() - R, pts[i].x() + R, nx);
@@ -1028,6 +1018,8 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
                 runStart = -1.0;
             }
         }
+        // Stubs: strokes shorter than kStubLengthRatio times their mean local spacing.
+        isStub[size_t(h)] = arc < kStubLengthRatio * (spacingSum / double(pts.size()));
         for (const Disc &d : discs)
             for (size_t i = 0; i + 1 < pts.size() && !nearSing[size_t(h)]; ++i)
                 if (pointSegmentDistance(d.centre, pts[i], pts[i + 1]) < d.radius) nearSing[size_t(h)] = 1;
@@ -1038,7 +1030,9 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
         const int k = hatch[h];
         for (int kb : partners[h]) pairs.emplace_back(std::min(k, kb), std::max(k, kb));
         r.strokesNearSingularities += nearSing[h];
+        r.stubs += isStub[h];
     }
+    r.stubFraction = double(r.stubs) / double(hatch.size());
     double cross = 0.0, over = 0.0, squeezed = 0.0;
     for (size_t h = 0; h < hatch.size(); ++h) {
         cross += crossLength[h];
