@@ -18,7 +18,6 @@
 #include "renderer/output/image_io.h"
 #include "renderer/output/svg.h"
 #include "scenes/pipeline.h"
-#include "scenes/print_units.h"
 #include "scenes/scene.h"
 
 #include <algorithm>
@@ -121,15 +120,6 @@ void runRender(const RenderOptions &opt) {
     if (desc.picture.kind.value == scenes::PictureDesc::Kind::Field && !opt.reportPath.empty())
         throw InputError(FileLoc{"--report"}, "the report measures strokes; a field picture has none",
                          "drop --report, or set picture.kind: hatching");
-    // Print mode (an SVG, or --paper): lengths in mm on the page, traced at the
-    // resolution that serves them; the scene's own when a raster is written too.
-    std::optional<scenes::PrintSetup> print;
-    if (desc.picture.kind.value != scenes::PictureDesc::Kind::Field && (!svgPaths.empty() || !opt.paper.empty())) {
-        print = scenes::applyPrintUnits(desc, !rasterPaths.empty());
-        for (const std::string &w : print->warnings) warn(opt.scenePath, "print", w);
-        svgOptions.penWidthMm = print->lengths.penWidthMm; // one pen: every path this wide
-        svgOptions.plotter = print->plotter;
-    }
     // Fail on any unwritable destination before spending time on the render: then
     // nothing at all is written.
     for (const std::string &o : outputs) checkWritable(o);
@@ -151,6 +141,9 @@ void runRender(const RenderOptions &opt) {
     pipeline.threads = threads;
     pipeline.measureHatching = !opt.reportPath.empty(); // only the report reads it
     pipeline.raster = !rasterPaths.empty();            // an SVG alone is written from the strokes
+    // Print mode (an SVG, or --paper): lengths in mm on the page, traced at the
+    // resolution that serves them; the scene's own when a raster is written too.
+    pipeline.print = !svgPaths.empty() || !opt.paper.empty();
     pipeline.afterLoad = [&](scenes::Scene &scene) {
         // Refuse, before the work, a render that cannot fit in the memory left
         // (scenes::renderMemoryEstimate(); README, "Limits").
@@ -203,6 +196,11 @@ void runRender(const RenderOptions &opt) {
         batch.commit();
         for (const std::string &o : outputs) std::cout << o << "\n";
         return;
+    }
+    const std::optional<scenes::PrintSetup> &print = result.print;
+    if (print) {
+        svgOptions.penWidthMm = print->lengths.penWidthMm; // one pen: every path this wide
+        svgOptions.plotter = print->plotter;
     }
     const renderer::Illustration &il = *result.illustration;
     const scenes::Scene &scene = *result.loaded.scene;

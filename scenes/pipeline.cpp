@@ -1,5 +1,6 @@
 #include "scenes/pipeline.h"
 
+#include "core/diagnostics.h"
 #include "renderer/field_picture.h"
 
 #include <chrono>
@@ -96,9 +97,18 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
     return renderer::renderIllustration(in);
 }
 
-RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options) {
-    const ThreadLimit limit(desc, options.threads);
+RenderResult renderScene(const SceneDesc &sceneDesc, const PipelineOptions &options) {
+    const ThreadLimit limit(sceneDesc, options.threads);
     RenderResult out;
+    // Print mode rewrites the camera resolution and the style's lengths before the
+    // scene is built, so the G-buffer, tone and tracer all run at the print pitch.
+    std::optional<SceneDesc> printed;
+    if (options.print && sceneDesc.picture.kind.value != PictureDesc::Kind::Field) {
+        printed = sceneDesc;
+        out.print = applyPrintUnits(*printed, options.printKeepsResolution.value_or(options.raster));
+        for (const std::string &w : out.print->warnings) warn(sceneDesc.path, "print", w);
+    }
+    const SceneDesc &desc = printed ? *printed : sceneDesc;
     out.loaded = loadScene(desc, options, &out.timingsMs);
     out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
     const field::TangentFrames &frames = *out.loaded.frames;

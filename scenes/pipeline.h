@@ -23,6 +23,7 @@
 #include "renderer/field_picture.h"
 #include "renderer/illustration.h"
 #include "renderer/output/image.h"
+#include "scenes/print_units.h"
 #include "scenes/scene.h"
 
 #include <tbb/global_control.h>
@@ -72,6 +73,17 @@ struct PipelineOptions {
     /// Off when the only outputs are vectors (SVG): the illustration's `layers` and
     /// `composite` stay empty.
     bool raster = true;
+    /// Print mode (scenes/print_units.h): the style's lengths are millimetres on the
+    /// page and the hatching is traced at a resolution that serves them
+    /// (applyPrintUnits() on a copy of the scene, before it is loaded; its warnings
+    /// go through warn() as kind "print", RenderResult::print says what it chose).
+    /// `rosyhatch render` turns it on for an SVG output or --paper. Field pictures
+    /// (picture.kind: field) ignore it.
+    bool print = false;
+    /// Print mode only: trace at the scene's camera.resolution, converting the
+    /// millimetres at its scale, instead of the resolution of page.px_mm. Unset: kept
+    /// exactly when `raster` is on (a raster output is drawn at the scene's resolution).
+    std::optional<bool> printKeepsResolution;
 };
 
 /// Limits oneTBB's worker threads while it lives: `threads` when set, else the
@@ -124,6 +136,9 @@ struct RenderResult : SceneField {
     std::vector<field::Separatrix> separatrices;        ///< field pictures with `separatrices: true`
     std::optional<renderer::Image> fieldPicture;        ///< the field picture (linear RGB + alpha)
     std::optional<renderer::FieldDrawing> fieldDrawing; ///< its fill and strokes (fieldPictureStrokes() for an SVG)
+    /// What print mode chose (PipelineOptions::print, hatching only): the lengths on
+    /// paper, the traced resolution, the pen and plotter tolerances for the SVG writer.
+    std::optional<PrintSetup> print;
     // timingsMs continues with bvh and the illustration's stages (gbuffer, tone,
     // screen_field, hatching, contours, raster), or separatrices and field_picture.
 };
@@ -152,7 +167,8 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                     bool measureHatching = true, bool raster = true);
 
-/// The whole pipeline: buildSceneField(desc), then the scene's picture — the
+/// The whole pipeline: print mode when options.print (applyPrintUnits() on a copy
+/// of `desc`), buildSceneField(), then the scene's picture — the
 /// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the
 /// field picture (separatrices when the scene asks for them; the scene's lights
 /// only when it has a `lights` key, else the picture's own light).

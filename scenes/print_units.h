@@ -39,7 +39,7 @@ struct PrintSetup {
 /// camera.resolution becomes the one whose pixels are page.px_mm on the page
 /// (aspect kept, at most kMaxPrintSide and kPrintBudget × its own longer side); then the style's hatch and contour
 /// lengths become the printLengths() in px of that picture (styles::printStyle()).
-/// A field picture (picture.kind: field) is left alone. Deterministic.
+/// renderScene() does not call it for a field picture (picture.kind: field). Deterministic.
 /// \throws InputError when the page leaves no room for the picture.
 PrintSetup applyPrintUnits(SceneDesc &desc, bool keepResolution);
 

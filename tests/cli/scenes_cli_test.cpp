@@ -349,6 +349,29 @@ TEST(SceneOutputsCli, OneRenderWritesEveryListedOutput) {
     EXPECT_EQ(slurp(dir / "multi.png"), slurp(dir / "single.png"));
 }
 
+// Print mode is the pipeline's (PipelineOptions::print): the CLI passes its
+// choice and reads back what was chosen for the SVG's pen and the report.
+TEST(SceneOutputsCli, PrintModeWarnsAndReportsWhatThePipelineChose) {
+    const fs::path dir = workDir();
+    const fs::path scene = writeScene("pen.yaml", kTiny);
+    const CliRun r = run("render " + quoted(scene) + " -o pen.svg --pen-mm 0.05 --report pen.json", "pen");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: the pen is 0.05 mm wide"), std::string::npos) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(slurp(dir / "pen.json"));
+    EXPECT_EQ(report.at("pen_width_mm").get<double>(), 0.05);
+    EXPECT_GE(report.at("warnings").at("print").get<int>(), 1);
+    // SVG only: traced for the page.px_mm grid (0.17 mm on A4 needs 1,118 px), not at
+    // the scene's 48 x 40, within the budget of 4 x its longer side (said so).
+    EXPECT_EQ(report.at("width").get<int>(), 4 * 48);
+    EXPECT_NEAR(report.at("mm_per_px").get<double>(), 190.0 / (4 * 40), 1e-9); // A4 landscape: 190 mm high
+    EXPECT_NE(r.err.find("warning: the page needs more than 192 px"), std::string::npos) << r.err;
+    EXPECT_NE(slurp(dir / "pen.svg").find("stroke-width=\"0.05\""), std::string::npos);
+    // A PNG alone is not in print mode: no pen in the report.
+    const CliRun png = run("render " + quoted(scene) + " -o pen.png --report pen-png.json -q", "pen-png");
+    ASSERT_EQ(png.exitCode, 0) << png.err;
+    EXPECT_FALSE(nlohmann::json::parse(slurp(dir / "pen-png.json")).contains("pen_width_mm"));
+}
+
 // -o (repeatable) replaces the scene's list: only the command line's files appear.
 TEST(SceneOutputsCli, RepeatedDashOReplacesTheScenesList) {
     const fs::path dir = workDir();

@@ -343,14 +343,18 @@ PrintRun printRun(double pageMm, int side, bool print, bool keepResolution, cons
     scenes::SceneDesc desc = scenes::parseScene(text, scenePath());
     PrintRun run;
     SvgOptions opt = svgOptionsFor(desc.style.style.page);
+    scenes::PipelineOptions options;
+    options.raster = false;
+    options.print = print;
+    options.printKeepsResolution = keepResolution;
+    scenes::RenderResult result = scenes::renderScene(desc, options);
+    EXPECT_EQ(result.print.has_value(), print);
     if (print) {
-        run.setup = scenes::applyPrintUnits(desc, keepResolution);
+        run.setup = *result.print;
         opt.penWidthMm = run.setup.lengths.penWidthMm;
         opt.plotter = run.setup.plotter;
     }
-    scenes::PipelineOptions options;
-    options.raster = false;
-    const Illustration il = std::move(*scenes::renderScene(desc, options).illustration);
+    const Illustration il = std::move(*result.illustration);
     run.ink = hatchInk(svgDocument(il.strokes, opt));
     const double pictureMm = pageMm - 10; // a square picture fills the square page inside the margins
     run.inkPerMm2 = run.ink.lengthMm / (pictureMm * pictureMm);

@@ -3,6 +3,7 @@
 // Expected values come from the scene text (sizes, stage order, edits asked for)
 // and from Poincaré–Hopf (index sum = Euler characteristic), not from the code.
 
+#include "core/diagnostics.h"
 #include "field/edits.h"
 #include "field/field_builder.h"
 #include "field/frames.h"
@@ -84,6 +85,47 @@ TEST(RenderScene, FieldPictureSceneGivesThePictureAndNoStrokes) {
     const std::vector<std::string> names = stageNames(r.timingsMs);
     EXPECT_EQ(names, (std::vector<std::string>{"load", "frames", "field", "singularities", "separatrices",
                                                "field_picture"}));
+}
+
+TEST(RenderScene, PrintModeIsThePipelinesChoice) {
+    // A 60 mm square page with 5 mm margins: the 96 x 64 picture is 50 mm wide.
+    const std::string page = std::string(kTorus) +
+                             "style:\n  page: {size: 60x60, margin_mm: 5, px_mm: 0.5, min_spacing_mm: 1.5, "
+                             "max_spacing_mm: 4, pen_width_mm: 0.04}\n";
+    const scenes::SceneDesc desc = scenes::parseScene(page, kScenePath);
+    scenes::PipelineOptions options;
+    options.raster = false; // an SVG alone: traced at page.px_mm, 50 mm / 0.5 mm = 100 px across
+    options.print = true;
+    WarningCapture capture;
+    const scenes::RenderResult svg = scenes::renderScene(desc, options);
+    ASSERT_TRUE(svg.print.has_value());
+    EXPECT_TRUE(svg.print->resolutionChosen);
+    EXPECT_EQ(svg.print->resolution[0], 100);
+    EXPECT_NEAR(svg.print->resolution[1], 100.0 * 64 / 96, 1.0);
+    EXPECT_EQ(svg.illustration->strokes.width, 100);
+    EXPECT_NEAR(svg.print->mmPerPx, 0.5, 0.01);
+    // The scene that was drawn has the lengths in px of that grid; the caller's is untouched.
+    EXPECT_NEAR(svg.loaded.scene->style.hatch.minSpacingPx, 1.5 / svg.print->mmPerPx, 1e-9);
+    EXPECT_EQ(desc.camera.resolution.value[0], 96);
+    // The 0.04 mm pen is reported through warn(), kind "print".
+    EXPECT_TRUE(capture.has("print"));
+    // A raster output keeps the scene's resolution (the mm converted at its scale).
+    options.raster = true;
+    const scenes::RenderResult kept = scenes::renderScene(desc, options);
+    ASSERT_TRUE(kept.print.has_value());
+    EXPECT_FALSE(kept.print->resolutionChosen);
+    EXPECT_EQ(kept.illustration->composite.width, 96);
+    EXPECT_NEAR(kept.print->mmPerPx, 50.0 / 96, 1e-9);
+    // printKeepsResolution overrides that choice either way.
+    options.raster = false;
+    options.printKeepsResolution = true;
+    EXPECT_EQ(scenes::renderScene(desc, options).illustration->strokes.width, 96);
+    // Off by default, and never for a field picture.
+    EXPECT_FALSE(scenes::renderScene(desc).print.has_value());
+    const scenes::SceneDesc field = scenes::parseScene(page + "picture: {kind: field}\n", kScenePath);
+    const scenes::RenderResult picture = scenes::renderScene(field, options);
+    EXPECT_FALSE(picture.print.has_value());
+    EXPECT_EQ(picture.fieldPicture->width, 96);
 }
 
 TEST(BuildSceneField, AppliesTheSceneEditsUnlessTurnedOff) {
