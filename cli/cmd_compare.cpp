@@ -133,7 +133,8 @@ void runCompare(const CompareOptions &opt) {
         checkWritable(opt.reportPath);
         checkNotAnInput(opt.reportPath, opt.scenePath, "scene");
     }
-    renderer::preloadImageIo(); // OpenImageIO maps while the fields are built (renderer/output/image_io.h)
+    // OpenImageIO maps while the fields are built (renderer/output/image_io.h); PNG needs no module.
+    if (renderer::writeNeedsImageIoModule(opt.outputPath)) renderer::preloadImageIo();
 
     scenes::PipelineOptions pipeline;
     pipeline.load = field::LoadOptions{opt.common.maxFaces};

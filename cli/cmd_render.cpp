@@ -148,11 +148,13 @@ void runRender(const RenderOptions &opt) {
         // Refuse, before the work, a render that cannot fit in the memory left
         // (scenes::renderMemoryEstimate(); README, "Limits").
         checkRenderFits(opt.scenePath, scene, std::any_of(rasterPaths.begin(), rasterPaths.end(), isExrPath));
-        // Image files go out through OpenImageIO, a module of ~260 shared libraries:
-        // map it on a background thread while the field is solved (renderer/output/image_io.h).
-        // Not before the mesh load: the mapping slowed the loader's page faults from 50
-        // to 100 ms, more than the load could hide. The SVG writer does not need it.
-        if (!rasterPaths.empty()) renderer::preloadImageIo();
+        // Image files other than PNG go out through OpenImageIO, a module of ~260 shared
+        // libraries: map it on a background thread while the field is solved
+        // (renderer/output/image_io.h). Not before the mesh load: the mapping slowed the
+        // loader's page faults from 50 to 100 ms, more than the load could hide. PNG
+        // (libpng directly) and SVG do not need it.
+        if (std::any_of(rasterPaths.begin(), rasterPaths.end(), renderer::writeNeedsImageIoModule))
+            renderer::preloadImageIo();
     };
     // The stages before the drawing's own display (renderer/illustration.cpp): pipeline
     // stage names and display names, weighted by their times on the bunny at 4096²

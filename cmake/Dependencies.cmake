@@ -7,6 +7,8 @@ find_package(OpenMesh REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(OpenEXR REQUIRED)
 find_package(OpenImageIO REQUIRED)
+# 8-bit PNG without the OpenImageIO module (renderer/output/png_write.h).
+find_package(PNG REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(fmt REQUIRED)

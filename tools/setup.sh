@@ -18,7 +18,7 @@ packages=(cmake g++ ninja-build pkg-config libembree-dev libopenimageio-dev open
           libopenexr-dev libeigen3-dev libopenmesh-dev libyaml-cpp-dev libtbb-dev libcli11-dev
           libgtest-dev libbenchmark-dev libcgal-demo libsuitesparse-dev libopenblas-dev
           librsvg2-bin clang-14 libclang-rt-14-dev libfmt-dev nlohmann-json3-dev
-          libcpp-httplib-dev libjs-three chromium chromium-driver python3-selenium)
+          libcpp-httplib-dev libpng-dev libjs-three chromium chromium-driver python3-selenium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

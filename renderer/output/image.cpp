@@ -6,6 +6,7 @@
 #include "core/progress.h"
 #include "renderer/output/image_io.h"
 #include "renderer/output/large_buffer.h"
+#include "renderer/output/png_write.h"
 
 #include <algorithm>
 #include <cctype>
@@ -76,6 +77,8 @@ bool isSupportedImagePath(const std::string &path) {
         if (ext == e) return true;
     return false;
 }
+
+bool writeNeedsImageIoModule(const std::string &path) { return lowerExtension(path) != ".png"; }
 
 void writeImage(const Image &image, const std::string &path, const ImageWriteOptions &options) {
     ROSY_CHECK_EQ(int(image.channelNames.size()), image.nChannels);
@@ -182,6 +185,22 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
         for (size_t c = 0; c < nc; ++c) keepInf[c] = image.channelNames[c] == "Z";
         for (size_t i = 0; i < floats.size(); ++i)
             if (!std::isfinite(floats[i]) && !(keepInf[i % nc] && floats[i] > 0)) floats[i] = 0.0f;
+    }
+
+    // The common case, an 8-bit PNG with straight or no alpha and no extra header
+    // attributes, goes to libpng directly: the same bytes without loading the
+    // OpenImageIO module (png_write.h).
+    const bool plainPng = format == Format::Png && !sixteenBit && options.floatAttributes.empty() &&
+                          image.attributes.empty() &&
+                          (alpha < 0 || (alpha == image.nChannels - 1 && image.nChannels % 2 == 0 &&
+                                         !image.premultipliedAlpha));
+    if (plainPng) {
+        writeAtomically(path, [&](const std::string &tmpPath) {
+            std::string error;
+            if (!writePng8(tmpPath, image.width, image.height, image.nChannels, bytes.data(), error))
+                throw IoError(path, error);
+        });
+        return;
     }
 
     const ImageIo &io = imageIo(); // before the temporary exists: a missing module leaves nothing behind

@@ -2,7 +2,9 @@
 /// \file image.h
 /// Our image type and the one way images leave the program: writeImage(). The
 /// files are written by OpenImageIO inside the run-time module of image_io.h
-/// (oiio_module.cpp), so nothing outside that module sees OpenImageIO.
+/// (oiio_module.cpp), so nothing outside that module sees OpenImageIO; 8-bit PNG
+/// with straight alpha and no extra attributes by libpng directly, the same bytes
+/// without loading the module (png_write.h).
 
 #include "renderer/output/image_io.h"
 
@@ -60,6 +62,12 @@ const char *supportedImageExtensions();
 
 /// True if writeImage() can write a file with this path's extension.
 bool isSupportedImagePath(const std::string &path);
+
+/// True if writeImage() of a picture to `path` (8 bits, no extra header
+/// attributes, straight alpha) loads the OpenImageIO module (image_io.h): every
+/// format but PNG, which libpng writes directly (png_write.h). Callers preload
+/// the module only then.
+bool writeNeedsImageIoModule(const std::string &path);
 
 /// Writes `image` to `path`, format chosen by the (case-insensitive) extension:
 ///  - .png, .tif/.tiff, .jpg/.jpeg: 8 bits per channel (PNG and TIFF: 16 on request,

@@ -23,6 +23,9 @@
 /// Missing or unloadable, imageIo() throws IoError (exit code 3) naming the paths
 /// tried and how to fix it.
 ///
+/// 8-bit PNG without extra header attributes does not come here: writeImage()
+/// writes it with libpng directly, the same bytes (png_write.h).
+///
 /// The interface passes only our own types (no OpenImageIO type crosses it) and
 /// reports failures as strings, never as exceptions across the module boundary.
 

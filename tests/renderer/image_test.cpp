@@ -214,3 +214,43 @@ TEST(WriteImage, EqualImagesGiveEqualFiles) {
         EXPECT_EQ(slurp(a), slurp(b)) << ext;
     }
 }
+
+TEST(WriteImage, PngIsTheFileOpenImageIoWrites) {
+    // writeImage() writes 8-bit PNG with libpng itself (renderer/output/png_write.h);
+    // the file must be byte for byte what OpenImageIO writes for the same pixels and
+    // the header writeImage() used to hand it (DateTime empty, sRGB colour space,
+    // straight alpha), for every channel layout and for images on which libpng's
+    // adaptive filter picks different filters row by row.
+    fs::path dir = freshDir("png-bytes");
+    const std::vector<std::vector<std::string>> layouts = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+    for (const auto &names : layouts) {
+        for (const auto &[w, h] : std::vector<std::pair<int, int>>{{3, 5}, {301, 187}}) {
+            Image img(w, h, names);
+            const size_t nc = names.size();
+            for (size_t i = 0; i < img.data.size(); ++i) {
+                const size_t p = i / nc, x = p % size_t(w), y = p / size_t(w);
+                // Smooth gradients in the top half, noise below, a flat band on the right.
+                const float noise = float((i * 2654435761u) % 1000) / 1000.0f;
+                const float smooth = float(x + 2 * y + 7 * (i % nc)) / float(w + 2 * h + 28);
+                img.data[i] = x > size_t(w) * 3 / 4 ? 0.5f : (y < size_t(h) / 2 ? smooth : noise);
+            }
+            const std::string tag = std::to_string(nc) + "-" + std::to_string(w);
+            const fs::path ours = dir / ("ours-" + tag + ".png"), theirs = dir / ("oiio-" + tag + ".png");
+            writeImage(img, ours.string());
+            const ReadBack stored = readBack(ours);
+            ASSERT_EQ(stored.spec.nchannels, int(nc));
+            OIIO::ImageSpec spec(w, h, int(nc), OIIO::TypeDesc::UINT8);
+            spec.channelnames = names;
+            spec.alpha_channel = names.back() == "A" ? int(nc) - 1 : -1;
+            if (spec.alpha_channel >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
+            spec.attribute("DateTime", "");
+            spec.attribute("oiio:ColorSpace", "sRGB");
+            auto out = OIIO::ImageOutput::create("png");
+            ASSERT_TRUE(out && out->open(theirs.string(), spec));
+            ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, stored.bytes.data()));
+            ASSERT_TRUE(out->close());
+            const std::string a = slurp(ours), b = slurp(theirs);
+            EXPECT_TRUE(a == b) << tag << ": " << a.size() << " bytes against OpenImageIO's " << b.size();
+        }
+    }
+}
