@@ -389,12 +389,16 @@ public:
         m_firstFamilyOnly = false;
         m_seedClearance = kFillClearance;
         m_minLengthRatio = kFillMinLengthRatio;
+        m_filling = true;
         const double stride = std::max(1.0, m_style.minSpacingPx);
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
                 const Vec2 q(x, y);
                 const int i = pixelIndex(q);
-                if (i < 0 || singleTone(i)) continue;
+                // Single tone is filled only where the tone is cross-hatching's but the
+                // two screen directions have folded together: the first family carries
+                // dark tone alone there, and a hole reads as a crack as in cross tone.
+                if (i < 0 || (singleTone(i) && densityAt(i) < m_style.crossDensity)) continue;
                 m_threshold = baseThreshold();
                 if (!eligible(q)) continue;
                 const double r = kFillClearance * spacingAt(i);
@@ -406,6 +410,7 @@ public:
             }
         m_seedClearance = kSeedClearance;
         m_minLengthRatio = kStubLengthRatio;
+        m_filling = false;
     }
 
     /// Layers by direction. In cross tone a first-family line may cross first-family
@@ -659,7 +664,13 @@ private:
         for (const Sample &s : fwd) meanDTest += s.dTest;
         for (const Sample &s : bwd) meanDTest += s.dTest;
         meanDTest /= double(1 + fwd.size() + bwd.size());
-        const double minLength = std::max(m_style.minLengthPx, m_minLengthRatio * meanDTest / kTestRatio);
+        // The hole-filling pass holds the style's minLengthPx only up to the stub
+        // length: a style asking for long lines (engraving: 40 px) would otherwise
+        // leave every small dark part (an eye socket, a fold of the mouth) white.
+        const double meanDSep = meanDTest / kTestRatio;
+        const double styleFloor =
+            m_filling ? std::min(m_style.minLengthPx, kStubLengthRatio * meanDSep) : m_style.minLengthPx;
+        const double minLength = std::max(styleFloor, m_minLengthRatio * meanDSep);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.size() > before) m_grid.popBack();
             m_nBlockers = 0; // they may have been among the removed samples
@@ -758,6 +769,7 @@ private:
     std::vector<Stroke> m_strokes;
     std::vector<std::vector<Vec2>> m_tangents;
     size_t m_next = 0;
+    bool m_filling = false; // inside fillHoles()
 };
 
 /// Width profile and optional wobble of one stroke; randomness from (seed, id) only.

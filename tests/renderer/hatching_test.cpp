@@ -443,6 +443,37 @@ TEST(Hatching, TracedStrokesAreNoStubs) {
     EXPECT_EQ(report.minSpacingViolations, 0);
 }
 
+TEST(Hatching, SmallDarkPartIsFilledEvenWhenTheStyleAsksForLongLines) {
+    // A dark patch 24 px wide on paper, in a style whose minLengthPx (40, as the
+    // engraving preset) is longer than the patch: no line of the two tracing passes
+    // fits, and left empty the patch reads as a white crack inside dark tone (an eye
+    // socket, a fold of the mouth). The hole-filling pass holds the style's length
+    // only up to the stub length (4 d_sep, about 16 px here), so the patch is hatched.
+    Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 1.8, 128, 128);
+    Scene s(field::makeGrid(4), cam);
+    s.field = constantField(*s.frames, 4);
+    s.render();
+    std::vector<float> density(s.gbuffer.nPixels(), 0.0f);
+    for (int y = 52; y < 76; ++y)
+        for (int x = 52; x < 76; ++x) density[size_t(s.gbuffer.index(x, y))] = 0.7f;
+    styles::HatchStyle st;
+    st.minLengthPx = 40.0;
+    ASSERT_EQ(hatchFamilies(0.7, st), 2);
+    HatchReport report;
+    const StrokeList list = traceHatches(s.screen, density, s.gbuffer, st, 5, &report);
+    // Lines across the patch, spaced about d_sep (4 px): at least three.
+    EXPECT_GE(report.strokes, 3);
+    EXPECT_EQ(report.stubs, 0);
+    EXPECT_EQ(report.minSpacingViolations, 0);
+    for (const Stroke &stroke : list.strokes)
+        for (const Vec2 &p : stroke.points) {
+            EXPECT_GE(p.x(), 51.0);
+            EXPECT_LE(p.x(), 77.0);
+            EXPECT_GE(p.y(), 51.0);
+            EXPECT_LE(p.y(), 77.0);
+        }
+}
+
 TEST(Hatching, FamilyCoverageSplitsTheToneAndFadesTheCrossFamilyIn) {
     styles::HatchStyle st;
     for (double rho = 0.0; rho <= 0.9; rho += 0.01) {

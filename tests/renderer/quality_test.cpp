@@ -93,10 +93,11 @@ bool skipUnlessHatching(const std::string &name, std::string &why) {
 /// the depth edges inside them) still leave seams above the 0.002, and
 /// armadillo's tone error. Each is held to the bounds written here instead, so it
 /// cannot get worse unnoticed; every threshold not named here still holds for them.
-/// Measured 2026-12-02 after the singularity groups: seam_fraction armadillo 0.0109,
-/// camel 0.0067, genus2 0.0037, lion-head 0.0084, man 0.0035, three-peaks 0.0033,
-/// triceratops 0.0026; armadillo tone 0.132 (before this changes: bunny
-/// 0.018, armadillo 0.082, lion-head 0.047, genus2 0.033).
+/// Measured 2026-12-02 after the hole pass reached small dark parts (styles with long
+/// minimum lines, folded screen directions): seam_fraction armadillo 0.0097, camel
+/// 0.0068, genus2 0.0033, lion-head 0.0025 (0.0084 before), man 0.0035, three-peaks
+/// 0.0033, triceratops 0.0021; armadillo tone 0.130 (before this changes:
+/// bunny 0.018, armadillo 0.082, lion-head 0.047, genus2 0.033).
 struct OpenGap {
     const char *scene;
     double seamBound = 0.002;
@@ -105,13 +106,13 @@ struct OpenGap {
     long long outsideBound = 0;
 };
 const OpenGap kOpenGaps[] = {
-    {"armadillo", 0.012, 0.14, 16.0},
+    {"armadillo", 0.011, 0.135},
     {"camel", 0.008},
-    {"genus2", 0.005},
-    {"lion-head", 0.010},
-    {"man", 0.005},
-    {"three-peaks", 0.005},
-    {"triceratops", 0.004},
+    {"genus2", 0.0045},
+    {"lion-head", 0.0035},
+    {"man", 0.0045},
+    {"three-peaks", 0.0045},
+    {"triceratops", 0.003},
 };
 
 class ExampleScene : public testing::TestWithParam<std::string> {};
