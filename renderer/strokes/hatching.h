@@ -142,7 +142,9 @@ double localSpacingPx(double density, const styles::HatchStyle &style);
 /// than 12° in one step, when they would come within d_test of a same-direction line,
 /// and at the disc of radius d_sep (at the darkest tone within it) around each
 /// visible singularity. Strokes shorter than minLengthPx or than kStubLengthRatio
-/// times their mean d_sep (2 in the hole pass) are dropped. Tapers are at most
+/// times their mean d_sep are dropped; the hole pass (dark tone: cross tone, or tone
+/// past crossDensity whose screen directions folded together) keeps strokes from 2
+/// d_sep and holds minLengthPx only up to kStubLengthRatio d_sep. Tapers are at most
 /// three line widths long. Tracing is sequential (Jobard–Lefer is order
 /// dependent); the output is identical for any thread count. Stroke ids follow
 /// creation order: the first family's pass, the second's, then the hole pass.
