@@ -239,6 +239,70 @@ private:
                                         std::vector<uint32_t>(m_cells.size(), 0)}; // per cell: family 0, other families
 };
 
+/// Print mode's guard band (HatchStyle::pixelScale != 1): per cell of a grid, the
+/// Euclidean distance from it to the nearest `edge` cell (cells outside the grid
+/// count as edge), in eighths of a cell, clamped at 255 (31.9 cells): two
+/// passes, the distance along each row, then the lower envelope of parabolas down
+/// each column (Felzenszwalb & Huttenlocher 2012, "Distance transforms of sampled
+/// functions"). Read bilinearly (Hatcher::blockedAt) it gives the band a width in
+/// fractions of a pixel, so the band keeps its size in mm at any pitch.
+std::vector<uint8_t> edgeDistanceEighths(const std::vector<uint8_t> &edge, int w, int h) {
+    constexpr int kFar = 255; // row distances are kept up to this many px
+    std::vector<uint8_t> rowDist(edge.size());
+    parallelFor(0, h, [&](int64_t y) {
+        const uint8_t *e = &edge[size_t(y) * size_t(w)];
+        uint8_t *o = &rowDist[size_t(y) * size_t(w)];
+        int last = -1; // the border left of the image counts as edge
+        for (int x = 0; x < w; ++x) {
+            if (e[x]) last = x;
+            o[x] = uint8_t(std::min(kFar, x - last));
+        }
+        last = w;
+        for (int x = w - 1; x >= 0; --x) {
+            if (e[x]) last = x;
+            o[x] = uint8_t(std::min<int>(o[x], std::min(kFar, last - x)));
+        }
+    }, 8);
+    std::vector<uint8_t> out(edge.size());
+    parallelFor(0, w, [&](int64_t x) {
+        // Sites: y = -1 and y = h (the border, f = 0) and each pixel of the column
+        // (f = squared row distance; none within kFar counts as infinitely far).
+        const int n = h + 2;
+        std::vector<double> f(static_cast<size_t>(n)), z(static_cast<size_t>(n) + 1);
+        std::vector<int> v(static_cast<size_t>(n));
+        for (int k = 0; k < n; ++k) {
+            const int y = k - 1;
+            const int d = (y < 0 || y >= h) ? 0 : rowDist[size_t(y) * size_t(w) + size_t(x)];
+            f[size_t(k)] = d >= kFar ? 1e30 : double(d) * d;
+        }
+        int k = 0;
+        v[0] = 0;
+        z[0] = -1e300;
+        z[1] = 1e300;
+        for (int q = 1; q < n; ++q) {
+            if (f[size_t(q)] >= 1e30) continue; // no site here
+            // Where q's parabola passes the envelope's last; z[0] = -inf stops the loop.
+            auto meet = [&](int p) {
+                return ((f[size_t(q)] + double(q) * q) - (f[size_t(p)] + double(p) * p)) / (2.0 * (q - p));
+            };
+            double s = meet(v[size_t(k)]);
+            while (s <= z[size_t(k)]) s = meet(v[size_t(--k)]);
+            ++k;
+            v[size_t(k)] = q;
+            z[size_t(k)] = s;
+            z[size_t(k) + 1] = 1e300;
+        }
+        k = 0;
+        for (int q = 1; q <= h; ++q) {
+            while (z[size_t(k) + 1] < q) ++k;
+            const int p = v[size_t(k)];
+            const double d = std::sqrt(double(q - p) * (q - p) + f[size_t(p)]);
+            out[size_t(q - 1) * size_t(w) + size_t(x)] = uint8_t(std::min(255.0, std::round(8.0 * d)));
+        }
+    }, 8);
+    return out;
+}
+
 struct Disc {
     Vec2 centre;
     double radius;
@@ -462,6 +526,23 @@ private:
         return false;
     }
 
+    /// Whether a stroke centre may not be at q (in pixel i): an edge or the guard band
+    /// beside it. In print mode the band is a distance (m_guardBand px from the
+    /// nearest edge pixel's square, read bilinearly from m_edgeDist at the pixel
+    /// corners), not whole pixels.
+    bool blockedAt(const Vec2 &q, int i) const {
+        if (m_blocked[size_t(i)]) return true;
+        if (m_edgeDist.empty()) return false;
+        const int w = m_field.width + 1, h = m_field.height + 1; // the corner grid
+        const double fx = std::clamp(q.x(), 0.0, double(w - 1)), fy = std::clamp(q.y(), 0.0, double(h - 1));
+        const int x0 = std::min(int(fx), w - 2), y0 = std::min(int(fy), h - 2);
+        const double tx = fx - x0, ty = fy - y0;
+        auto at = [&](int x, int y) { return double(m_edgeDist[size_t(y) * size_t(w) + size_t(x)]); };
+        const double d = ((1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
+                          ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1))) / 8.0;
+        return d < m_guardBand;
+    }
+
     /// The density from which the current family hatches: highlightDensity for the
     /// first, crossDensity for the second.
     double baseThreshold() const { return m_family == 0 ? m_style.highlightDensity : m_style.crossDensity; }
@@ -476,7 +557,7 @@ private:
     /// A point a stroke of the current family may occupy (tone at least m_threshold).
     bool eligible(const Vec2 &q) const {
         const int i = pixelIndex(q);
-        if (i < 0 || m_blocked[size_t(i)]) return false;
+        if (i < 0 || blockedAt(q, i)) return false;
         if (hatchFamilies(densityAt(i), m_style) <= m_family || densityAt(i) < m_threshold) return false;
         if (m_family == 1 && m_crossWeight[size_t(i)] <= 0.0f) return false;
         return !inDisc(q);
@@ -632,7 +713,7 @@ private:
             if (!direction(p, h, v1) || v1.dot(h) < kMaxTurnCos) break;
             const Vec2 pm = p + 0.5 * step * v1;
             const int im = pixelIndex(pm);
-            if (im < 0 || m_blocked[size_t(im)]) break;
+            if (im < 0 || blockedAt(pm, im)) break;
             if (!direction(pm, v1, v2) || v2.dot(h) < kMaxTurnCos) break; // sharp turn: near a singularity
             const Vec2 q = p + step * v2;
             if (!eligible(q)) break;
@@ -705,7 +786,10 @@ private:
             if (g.faceId[a] < 0 || g.faceId[b] < 0) return false;
             const double da = g.depth[a], db = g.depth[b];
             const double rel = std::abs(da - db) / std::max(1e-12, std::min(std::abs(da), std::abs(db)));
-            return rel > kDepthJump || (rel > kDepthJumpWithNormal && g.normal(a).dot(g.normal(b)) < kNormalJumpCos);
+            // Per traced pixel: print mode's pixels are 1 / pixelScale style pixels, over
+            // which a smooth surface changes depth 1 / pixelScale times as much.
+            return rel > kDepthJump * m_jumpScale ||
+                   (rel > kDepthJumpWithNormal * m_jumpScale && g.normal(a).dot(g.normal(b)) < kNormalJumpCos);
         };
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -713,6 +797,26 @@ private:
                 if (x + 1 < w && jump(i, i + 1)) edge[i] = edge[i + 1] = 1;
                 if (y + 1 < h && jump(i, i + size_t(w))) edge[i] = edge[i + size_t(w)] = 1;
             }
+        if (m_style.pixelScale != 1.0) {
+            // Print mode: a band of one style pixel (pixelScale px, any fraction),
+            // measured from the edge pixels (blockedAt()); no step can jump it, as
+            // steps are at most two style pixels and their midpoints are tested.
+            // Distances are taken at pixel corners, a corner being on the edge when
+            // any pixel around it is, so that read bilinearly at a point they give its
+            // distance to the nearest edge pixel's square.
+            std::vector<uint8_t> corners(size_t(w + 1) * size_t(h + 1), 0);
+            for (int y = 0; y <= h; ++y)
+                for (int x = 0; x <= w; ++x) {
+                    bool e = false;
+                    for (int yy = y - 1; yy <= y && !e; ++yy)
+                        for (int xx = x - 1; xx <= x && !e; ++xx)
+                            e = xx < 0 || yy < 0 || xx >= w || yy >= h || edge[size_t(yy) * size_t(w) + size_t(xx)];
+                    corners[size_t(y) * size_t(w + 1) + size_t(x)] = e;
+                }
+            m_blocked = std::move(edge);
+            m_edgeDist = edgeDistanceEighths(corners, w + 1, h + 1);
+            return;
+        }
         // A guard band of m_guardPx pixels (one style pixel, at least one; square
         // neighbourhood) keeps stroke centres away from the background, so a stroke's
         // width stays on the object. Separable: a horizontal then a vertical
@@ -758,6 +862,11 @@ private:
     double m_minStep = kMinStepPx * std::max(m_style.pixelScale, 1e-3);
     double m_maxStep = std::max(kMaxStepPx * m_style.pixelScale, m_minStep);
     int m_guardPx = std::max(1, int(std::ceil(0.5 * m_maxStep - 1e-9)));
+    // Print mode (pixelScale != 1): the guard band in px of this image, the distance
+    // to the edges it is read from (edgeDistanceEighths), and the depth-jump scale.
+    double m_guardBand = std::max(m_style.pixelScale, 1e-3);
+    std::vector<uint8_t> m_edgeDist;
+    double m_jumpScale = 1.0 / std::max(m_style.pixelScale, 1e-3);
     int m_family = 0;
     bool m_firstFamilyOnly = true; // no line of the second family traced yet
     Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)

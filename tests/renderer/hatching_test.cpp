@@ -501,3 +501,46 @@ TEST(Hatching, FamilyCoverageSplitsTheToneAndFadesTheCrossFamilyIn) {
     EXPECT_DOUBLE_EQ(folded[0], 0.7);
     EXPECT_EQ(folded[1], 0.0);
 }
+
+// Print mode (HatchStyle::pixelScale != 1, styles::printStyle()): the guard band
+// that keeps stroke centres off the background is one style pixel at any pitch,
+// a fraction of a traced pixel included. Before, it was whole traced pixels
+// (ceil(pixelScale)): the nearest stroke point 1.51 style px from the background
+// at pixelScale 0.68, 1.19 at 2.72 (now 1.000 and 0.996).
+TEST(Hatching, PrintGuardBandKeepsItsWidthAtAnyPitch) {
+    double nearest[2];
+    const double scales[2] = {0.68, 2.72};
+    for (int k = 0; k < 2; ++k) {
+        const double ps = scales[k];
+        const int size = int(std::lround(150 * ps));
+        const Scene s = tiltedPlane(size);
+        styles::HatchStyle st;
+        st.strokeWidthPx *= ps;
+        st.minSpacingPx *= ps;
+        st.maxSpacingPx *= ps;
+        st.minLengthPx *= ps;
+        st.pixelScale = ps;
+        const StrokeList list = traceHatches(s.screen, s.uniformDensity(0.3f), s.gbuffer, st, 3);
+        ASSERT_GT(list.strokes.size(), 5u);
+        // Distance from each stroke point to the nearest background pixel's square
+        // (looked for within 6 px: farther than the 1.3 style px checked below).
+        double best = 1e9;
+        for (const Stroke &stroke : list.strokes)
+            for (const Vec2 &p : stroke.points)
+                for (int y = int(p.y()) - 6; y <= int(p.y()) + 6; ++y)
+                    for (int x = int(p.x()) - 6; x <= int(p.x()) + 6; ++x) {
+                        if (x >= 0 && y >= 0 && x < size && y < size && s.gbuffer.covered(x, y)) continue;
+                        const double dx = std::max({x - p.x(), 0.0, p.x() - (x + 1)});
+                        const double dy = std::max({y - p.y(), 0.0, p.y() - (y + 1)});
+                        best = std::min(best, std::hypot(dx, dy));
+                    }
+        nearest[k] = best / ps; // in style px
+        std::printf("pixelScale %.2f (%d px): nearest stroke point %.3f style px from the background\n", ps, size,
+                    nearest[k]);
+    }
+    for (double d : nearest) {
+        EXPECT_GT(d, 0.8); // the band holds
+        EXPECT_LT(d, 1.3); // and is not whole pixels wide
+    }
+    EXPECT_NEAR(nearest[0], nearest[1], 0.25);
+}
