@@ -378,10 +378,10 @@ TEST(PrintMode, SameLineDensityOnPaperForAnyResolutionAndPageSize) {
     std::printf("hatch ink per mm² of picture: 200² %.4f, 400² %.4f; page 60 %.4f, page 85 %.4f (mm/mm²)\n",
                 r200.inkPerMm2, r400.inkPerMm2, small.inkPerMm2, large.inkPerMm2);
     ASSERT_GT(r200.inkPerMm2, 0.05);
-    // Issue 18 asks for 5 %. Measured (2026-12-02): page 85/60 1.041 (0.954 before the
+    // Issue 18 asks for 5 %. Measured (2026-12-02): page 85/60 1.045 (0.954 before the
     // guard band along silhouettes became a distance of one style pixel instead of
     // whole traced pixels), SVG-only (0.17 mm/px) / kept (0.25 mm/px) 1.000 (1.056).
-    // 400²/200² is 1.065 (1.041 before): on this 50 mm picture of ~40 strokes one
+    // 400²/200² is 1.063 (1.041 before): on this 50 mm picture of ~40 strokes one
     // stroke is 2-5 % of the ink and the tracer's packing (where seeds land, whether
     // a stroke survives) moves it by that much from one pitch to the next; the next
     // test holds resolution over four views, where that scatter averages out.
@@ -403,7 +403,7 @@ TEST(PrintMode, InkPerMm2DoesNotGrowWithResolution) {
     // hatches 0.4-1.2 mm apart, traced at 300² (0.167 mm/px) and 800² (0.0625 mm/px).
     // Before the guard band along silhouettes kept its size in mm, the coarser grid
     // drew less in every view (the band was whole traced pixels, 1.5 style px at
-    // 300²): summed over the views 800²/300² was 1.095; now 0.995 (2026-12-02,
+    // 300²): summed over the views 800²/300² was 1.095; now 0.994 (2026-12-02,
     // bench/print_density; per view 0.95-1.05, the tracer's packing scatter).
     const std::string pen = ", pen_width_mm: 0.15, min_spacing_mm: 0.4, max_spacing_mm: 1.2, min_length_mm: 0.5";
     double coarse = 0, fine = 0;
