@@ -165,10 +165,16 @@ int main(int argc, char **argv) {
                    undo},
                   {[&] { st.fieldBinary(); }, {}},
                   {[&] { st.stateJson(); }, {}}});
+    std::vector<rosy::scenes::StageTimings> addStages; // Studio::lastEditTimings() of each +1 element in process
     const std::vector<double> rebuilds = interleaved(
         slow, {{[&] { rosy::scenes::buildSceneField(desc); }, {}},
                {[&] { require(ok(c.Post("/api/edit", add, "application/json")), "the element request"); },
                 undo},
+               {[&] {
+                    st.edit(add);
+                    addStages.push_back(st.lastEditTimings());
+                },
+                [&] { st.undo(); }},
                {[&] {
                     rosy::studio::Studio fresh(scenePath);
                     rosy::studio::StudioServer s2(fresh, {});
@@ -211,7 +217,15 @@ int main(int argc, char **argv) {
     row("  Studio::fieldBinary()", edits[3], "library cancel_near + find", edits[0]);
     row("  Studio::stateJson()", edits[4], "library cancel_near + find", edits[0]);
     row("edit request: +1 element (field rebuilt)", rebuilds[1], "buildSceneField()", rebuilds[0]);
-    row("first load: studio + state + mesh + field", rebuilds[2], "buildSceneField()", rebuilds[0]);
+    row("Studio::edit() +1 element, in process", rebuilds[2], "buildSceneField()", rebuilds[0]);
+    for (size_t k = 0; !addStages.empty() && k < addStages.back().size(); ++k) {
+        std::vector<double> t;
+        for (const auto &stages : addStages)
+            if (k < stages.size()) t.push_back(stages[k].second);
+        const std::string what = "  step: " + addStages.back()[k].first;
+        row(what.c_str(), median(t), "buildSceneField()", rebuilds[0]);
+    }
+    row("first load: studio + state + mesh + field", rebuilds[3], "buildSceneField()", rebuilds[0]);
     row("makeDisplayMesh() (at most 50,000 faces)", median(displayMs), "buildSceneField()", rebuilds[0]);
     row("preview 512^2 PNG (scene at 512 cached)", previews[1], "renderScene() at 512^2", previews[0]);
     row("first preview 512^2 (loads the scene at 512)", firstPreview, "renderScene() at 512^2", previews[0]);

@@ -63,7 +63,8 @@ SnappedElement snapToSurface(const Mesh &mesh, const Vec3 &p) {
 
 void elementConstraints(const TangentFrames &frames, int nSym,
                         const std::vector<DesignElement> &elements, std::vector<char> &fixed,
-                        Eigen::VectorXcd &values) {
+                        Eigen::VectorXcd &values, const std::vector<SnappedElement> *snapped) {
+    ROSY_CHECK(!snapped || snapped->size() == elements.size());
     const Mesh &mesh = frames.mesh();
     fixed.assign(mesh.nVertices(), 0);
     values = Eigen::VectorXcd::Zero(mesh.nVertices());
@@ -81,7 +82,7 @@ void elementConstraints(const TangentFrames &frames, int nSym,
             throw InputError(loc, "design element strength must be a positive number");
         if (!el.position.allFinite() || !std::isfinite(el.phaseRad))
             throw InputError(loc, "design element position or phase is not finite");
-        SnappedElement snap = snapToSurface(mesh, el.position);
+        const SnappedElement snap = snapped ? (*snapped)[k] : snapToSurface(mesh, el.position);
         if (snap.face < 0 || snap.distance > defaults.maxSnapDistance * diag)
             throw InputError(loc, "design element at " + fmtPoint(el.position) + " is " +
                                       fmt::format("{:.3g} units from the surface (mesh size {:.3g})",
@@ -221,7 +222,7 @@ RosyField designField(const TangentFrames &frames, int nSym, const std::vector<D
                          "add field.elements or use source: curvature or smoothest");
     std::vector<char> fixed;
     Eigen::VectorXcd values;
-    elementConstraints(frames, nSym, elements, fixed, values);
+    elementConstraints(frames, nSym, elements, fixed, values, options.snapped);
 
     // A component without any element (and no guide) would make the system
     // singular: give it the globally smoothest field instead, and say so.

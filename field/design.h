@@ -52,15 +52,19 @@ struct DesignOptions {
     double maxSnapDistance = 0.05;
     /// Relative residual of the relaxation solve (see kRelaxationTolerance).
     double solverTolerance = kRelaxationTolerance;
+    /// snapToSurface() of each element's position when the caller knows it (a
+    /// FieldCache), so designField() need not search the faces again; null: searched.
+    const std::vector<SnappedElement> *snapped = nullptr;
 };
 
 /// The Dirichlet values an element set fixes: vertex ids and representation vectors
 /// (in vertex frames). \throws InputError (using element.label) if the element is off
 /// the mesh, has an order outside {−1, 0, 1}, a non-positive or non-finite strength,
-/// a zero direction for L = 0, or lands in a degenerate face.
+/// a zero direction for L = 0, or lands in a degenerate face. `snapped`, when given,
+/// holds snapToSurface() of each element's position (else each is searched).
 void elementConstraints(const TangentFrames &frames, int nSym,
                         const std::vector<DesignElement> &elements, std::vector<char> &fixed,
-                        Eigen::VectorXcd &values);
+                        Eigen::VectorXcd &values, const std::vector<SnappedElement> *snapped = nullptr);
 
 /// Relaxed N-RoSy field from design elements (plus an optional guide).
 /// Components that hold no element and have no guide get the globally smoothest

@@ -5,9 +5,12 @@
 #include "field/sparse_solver.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <mutex>
 #include <string>
 
 namespace rosy::field {
@@ -54,13 +57,107 @@ RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCu
     return field;
 }
 
+struct FieldCache::Impl {
+    const TangentFrames *frames;
+    std::mutex mutex;
+    struct Curvature {
+        CurvatureOptions options;
+        std::vector<VertexCurvature> values;
+        double anisotropy = 0;
+        std::map<int, RosyField> guides; // per N
+    };
+    std::vector<std::unique_ptr<Curvature>> curvatures;
+    std::map<int, SparseMatrixC> laplacians;
+    std::optional<Eigen::VectorXd> areas;
+    std::map<int, SmoothestResult> smoothest;
+    // Snapped positions by their coordinates' bits (a linear search of the faces each).
+    std::map<std::array<uint64_t, 3>, SnappedElement> snaps;
+    static constexpr size_t kMaxSnaps = 1u << 16;
+
+    Curvature &curvature(const CurvatureOptions &options) { // with `mutex` held
+        for (auto &c : curvatures)
+            if (c->options.normals == options.normals && c->options.smoothingRounds == options.smoothingRounds)
+                return *c;
+        auto c = std::make_unique<Curvature>();
+        c->options = options;
+        c->values = computeCurvature(frames->mesh(), options);
+        c->anisotropy = field::curvatureAnisotropy(c->values);
+        curvatures.push_back(std::move(c));
+        return *curvatures.back();
+    }
+};
+
+FieldCache::FieldCache(const TangentFrames &frames) : m_impl(std::make_unique<Impl>()) { m_impl->frames = &frames; }
+FieldCache::~FieldCache() = default;
+
+const TangentFrames &FieldCache::frames() const { return *m_impl->frames; }
+
+const std::vector<VertexCurvature> &FieldCache::curvature(const CurvatureOptions &options) {
+    std::lock_guard lock(m_impl->mutex);
+    return m_impl->curvature(options).values;
+}
+
+double FieldCache::curvatureAnisotropy(const CurvatureOptions &options) {
+    std::lock_guard lock(m_impl->mutex);
+    return m_impl->curvature(options).anisotropy;
+}
+
+const RosyField &FieldCache::curvatureGuide(const CurvatureOptions &options, int nSym) {
+    std::lock_guard lock(m_impl->mutex);
+    Impl::Curvature &c = m_impl->curvature(options);
+    auto it = c.guides.find(nSym);
+    if (it == c.guides.end()) it = c.guides.emplace(nSym, curvatureField(*m_impl->frames, c.values, nSym)).first;
+    return it->second;
+}
+
+const SparseMatrixC &FieldCache::connectionLaplacian(int nSym) {
+    std::lock_guard lock(m_impl->mutex);
+    auto it = m_impl->laplacians.find(nSym);
+    if (it == m_impl->laplacians.end())
+        it = m_impl->laplacians.emplace(nSym, field::connectionLaplacian(*m_impl->frames, nSym)).first;
+    return it->second;
+}
+
+const Eigen::VectorXd &FieldCache::vertexAreas() {
+    std::lock_guard lock(m_impl->mutex);
+    if (!m_impl->areas) m_impl->areas = field::vertexAreas(m_impl->frames->mesh());
+    return *m_impl->areas;
+}
+
+const SmoothestResult &FieldCache::smoothest(int nSym) {
+    std::lock_guard lock(m_impl->mutex);
+    auto it = m_impl->smoothest.find(nSym);
+    if (it == m_impl->smoothest.end()) it = m_impl->smoothest.emplace(nSym, smoothestField(*m_impl->frames, nSym)).first;
+    return it->second;
+}
+
+std::vector<SnappedElement> FieldCache::snapped(const std::vector<DesignElement> &elements) {
+    std::lock_guard lock(m_impl->mutex);
+    std::vector<SnappedElement> out;
+    out.reserve(elements.size());
+    for (const DesignElement &el : elements) {
+        std::array<uint64_t, 3> key;
+        for (int c = 0; c < 3; ++c) std::memcpy(&key[size_t(c)], &el.position[c], sizeof(double));
+        auto it = m_impl->snaps.find(key);
+        if (it == m_impl->snaps.end()) {
+            if (m_impl->snaps.size() >= Impl::kMaxSnaps) m_impl->snaps.clear();
+            it = m_impl->snaps.emplace(key, snapToSurface(m_impl->frames->mesh(), el.position)).first;
+        }
+        out.push_back(it->second);
+    }
+    return out;
+}
+
 namespace {
-FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &spec);
+FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &spec, FieldCache &cache);
 } // namespace
 
-FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec) {
+FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec, FieldCache *cache) {
+    ROSY_CHECK(!cache || &cache->frames() == &frames);
     try {
-        return buildFieldUnchecked(frames, spec);
+        if (cache) return buildFieldUnchecked(frames, spec, *cache);
+        FieldCache fresh(frames); // the same steps, kept for this call only
+        return buildFieldUnchecked(frames, spec, fresh);
     } catch (const SolverFailure &e) {
         // The fuzzer reached this with valid topology and degenerate geometry
         // (tests/fuzz/field/crashers/degenerate_*): a rejected mesh, not a bug.
@@ -69,17 +166,19 @@ FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec) {
 }
 
 namespace {
-FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &spec) {
+FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &spec, FieldCache &cache) {
     const Mesh &mesh = frames.mesh();
     checkSymmetry(spec.nSym, mesh.name());
     FieldResult out;
     DesignOptions design;
     design.weights = spec.weights;
+    const std::vector<SnappedElement> snapped = cache.snapped(spec.elements);
+    design.snapped = &snapped;
     switch (spec.source) {
     case FieldSource::Smoothest: {
         auto t0 = Clock::now();
-        SmoothestResult smoothest = smoothestField(frames, spec.nSym);
-        out.field = std::move(smoothest.field);
+        const SmoothestResult &smoothest = cache.smoothest(spec.nSym);
+        out.field = smoothest.field;
         out.eigenSolve = smoothest.solver;
         out.timingsMs["solve"] = msSince(t0);
         break;
@@ -92,13 +191,13 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
     }
     case FieldSource::Curvature: {
         auto t0 = Clock::now();
-        out.curvature = computeCurvature(mesh, spec.curvature);
+        out.curvature = cache.curvature(spec.curvature);
         out.timingsMs["curvature"] = msSince(t0);
         t0 = Clock::now();
-        RosyField guide = curvatureField(frames, out.curvature, spec.nSym);
+        const RosyField &guide = cache.curvatureGuide(spec.curvature, spec.nSym);
         // Planar or (nearly) umbilic: the principal directions are rounding or
         // discretisation noise, which curvatureField would normalise to full strength.
-        const double anisotropy = curvatureAnisotropy(out.curvature);
+        const double anisotropy = cache.curvatureAnisotropy(spec.curvature);
         if (guide.u.size() > 0 &&
             (anisotropy < kMinCurvatureAnisotropy || guide.u.cwiseAbs().maxCoeff() == 0)) {
             char measured[64];
@@ -109,24 +208,26 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
                              "area-weighted |k1 - k2| / (|k1| + |k2|) = ") +
                      measured + "), so curvature gives no direction; using the globally smoothest "
                      "field instead (or choose `source: smoothest` or `source: design`)");
-            SmoothestResult smoothest = smoothestField(frames, spec.nSym);
-            out.field = std::move(smoothest.field);
+            const SmoothestResult &smoothest = cache.smoothest(spec.nSym);
+            out.field = smoothest.field;
             out.eigenSolve = smoothest.solver;
         } else if (!spec.elements.empty()) {
             // Elements are Dirichlet constraints; the curvature field guides the rest.
             std::vector<char> fixed;
             Eigen::VectorXcd values;
-            elementConstraints(frames, spec.nSym, spec.elements, fixed, values);
+            elementConstraints(frames, spec.nSym, spec.elements, fixed, values, &snapped);
             if (spec.smoothingLength > 0) {
-                out.field = alignedField(frames, guide, spec.smoothingLength, fixed, values);
+                out.field = alignedField(frames, cache.connectionLaplacian(spec.nSym), cache.vertexAreas(), guide,
+                                         spec.smoothingLength, fixed, values);
             } else {
                 design.guide = &guide;
                 out.field = {spec.nSym, solveRelaxation(frames, spec.nSym, fixed, values, design)};
             }
         } else if (spec.smoothingLength > 0) {
-            out.field = alignedField(frames, guide, spec.smoothingLength);
+            out.field = alignedField(frames, cache.connectionLaplacian(spec.nSym), cache.vertexAreas(), guide,
+                                     spec.smoothingLength);
         } else {
-            out.field = std::move(guide);
+            out.field = guide;
         }
         out.timingsMs["solve"] = msSince(t0);
         break;
@@ -138,7 +239,7 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
         auto t0 = Clock::now();
         std::vector<char> fixed;
         Eigen::VectorXcd values;
-        if (!spec.elements.empty()) elementConstraints(frames, spec.nSym, spec.elements, fixed, values);
+        if (!spec.elements.empty()) elementConstraints(frames, spec.nSym, spec.elements, fixed, values, &snapped);
         relaxationSmooth(frames, out.field, spec.globalSmoothingIterations,
                          spec.globalSmoothingStrength, fixed, spec.weights);
         out.timingsMs["smoothing"] = msSince(t0);

@@ -10,6 +10,7 @@
 #include "field/smoothing.h"
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -64,14 +65,55 @@ struct FieldResult {
 RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCurvature> &curvature,
                          int nSym);
 
-/// Builds the field. \throws InputError for N outside [1, kMaxSymmetry], bad
+/// What buildField() derives from the mesh alone, kept between calls on one mesh:
+/// the curvature and its guide field (per CurvatureOptions and N), the connection
+/// Laplacian (per N), the vertex areas, the smoothest field (per N) and where design
+/// elements snap (per position). An interactive session (`rosyhatch studio`) keeps
+/// one, so that adding a design element recomputes only what depends on the
+/// elements: the constrained solve and what follows. Every entry is made by the
+/// same function buildField() calls without a cache, and buildField() without a
+/// cache uses a fresh one, so a field is the same to the bit with or without it
+/// (a pure function of the mesh and the spec, never of the calls before; test:
+/// FieldCache.*). Warnings of a cached step (smoothest-fallback) are given once.
+/// Thread-safe; its entries live as long as the cache.
+class FieldCache {
+public:
+    /// For fields on `frames` (which must outlive the cache).
+    explicit FieldCache(const TangentFrames &frames);
+    ~FieldCache();
+    FieldCache(const FieldCache &) = delete;
+    FieldCache &operator=(const FieldCache &) = delete;
+
+    const TangentFrames &frames() const;
+    /// computeCurvature(mesh, options).
+    const std::vector<VertexCurvature> &curvature(const CurvatureOptions &options);
+    /// curvatureAnisotropy(curvature(options)).
+    double curvatureAnisotropy(const CurvatureOptions &options);
+    /// curvatureField(frames, curvature(options), nSym).
+    const RosyField &curvatureGuide(const CurvatureOptions &options, int nSym);
+    /// connectionLaplacian(frames, nSym).
+    const SparseMatrixC &connectionLaplacian(int nSym);
+    /// vertexAreas(mesh).
+    const Eigen::VectorXd &vertexAreas();
+    /// smoothestField(frames, nSym).
+    const SmoothestResult &smoothest(int nSym);
+    /// snapToSurface(mesh, p) of each element's position.
+    std::vector<SnappedElement> snapped(const std::vector<DesignElement> &elements);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+/// Builds the field. `cache`, when given, must be for `frames`; the field is the
+/// same with or without it (see FieldCache). \throws InputError for N outside [1, kMaxSymmetry], bad
 /// design elements, a design source without elements, or a solver that fails on the
 /// mesh (a factorization or solve on numerically singular, degenerate geometry; the
 /// message names the solver's cause). With the curvature source,
 /// a mesh whose curvatureAnisotropy() is below kMinCurvatureAnisotropy (planar or
 /// nearly umbilic, e.g. a sphere: its principal directions are noise) falls back to
 /// the smoothest field with a `no-curvature-direction` warning.
-FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec);
+FieldResult buildField(const TangentFrames &frames, const FieldSpec &spec, FieldCache *cache = nullptr);
 
 /// Checks N, throwing InputError at `where` when it is out of range.
 void checkSymmetry(int nSym, const std::string &where);

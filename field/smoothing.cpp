@@ -476,6 +476,13 @@ SmoothestResult smoothestField(const TangentFrames &frames, int nSym, const Smoo
 RosyField alignedField(const TangentFrames &frames, const RosyField &guide, double smoothingLength,
                        const std::vector<char> &fixed, const Eigen::VectorXcd &fixedValues,
                        std::optional<double> tolerance) {
+    return alignedField(frames, connectionLaplacian(frames, guide.nSym), vertexAreas(frames.mesh()), guide,
+                        smoothingLength, fixed, fixedValues, tolerance);
+}
+
+RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,
+                       const RosyField &guide, double smoothingLength, const std::vector<char> &fixed,
+                       const Eigen::VectorXcd &fixedValues, std::optional<double> tolerance) {
     const Mesh &mesh = frames.mesh();
     const int n = mesh.nVertices();
     // s = 1 / (ℓ d)² overflows to infinity for tiny ℓ (1e-200), which the solver
@@ -495,7 +502,7 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
     mesh.bounds(lo, hi);
     const double len = smoothingLength * std::max((hi - lo).norm(), 1e-300);
     const double s = 1.0 / (len * len);
-    const Eigen::VectorXd m = vertexAreas(mesh);
+    const Eigen::VectorXd &m = areas;
 
     std::vector<int> freeId(n, -1);
     int nFree = 0;
@@ -509,8 +516,7 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) rhs[freeId[v]] = s * m[v] * guide.u[v];
     // K = (A + sM) on the free vertices, built in place (no triplets).
-    SparseMatrixC K = connectionLaplacian(frames, guide.nSym);
-    if (nFree < n) K = freeBlock(K, freeId, nFree, out.u, rhs);
+    SparseMatrixC K = nFree < n ? freeBlock(laplacian, freeId, nFree, out.u, rhs) : laplacian;
     for (int v = 0; v < n; ++v)
         if (freeId[v] >= 0) K.coeffRef(freeId[v], freeId[v]) += s * m[v];
     // The guide restricted to the free vertices is a good start for CG.

@@ -101,4 +101,11 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
                        const Eigen::VectorXcd &fixedValues = {},
                        std::optional<double> tolerance = std::nullopt);
 
+/// alignedField() with its two mesh-only inputs given: `laplacian` =
+/// connectionLaplacian(frames, guide.nSym) and `areas` = vertexAreas(frames.mesh())
+/// (a FieldCache keeps them between calls; the result is the same to the bit).
+RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,
+                       const RosyField &guide, double smoothingLength, const std::vector<char> &fixed = {},
+                       const Eigen::VectorXcd &fixedValues = {}, std::optional<double> tolerance = std::nullopt);
+
 } // namespace rosy::field

@@ -47,7 +47,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     const bool editing = options.applyEdits && !fieldDesc.edits.empty();
     std::optional<field::RosyField> unedited;
     out.field = timed("field", timings, options, [&] {
-        field::FieldResult r = field::buildField(*loaded.frames, out.spec);
+        field::FieldResult r = field::buildField(*loaded.frames, out.spec, options.fieldCache);
         if (editing && options.keepUnedited) unedited = r.field;
         if (editing) out.edits = field::applyFieldEdits(*loaded.frames, r.field, fieldDesc.edits);
         return r;

@@ -60,6 +60,10 @@ struct PipelineOptions {
     /// them with its singularities (and separatrices, with `separatrices`), in
     /// SceneFieldResult::unedited (stage "unedited"), e.g. to draw it beside the edited one.
     bool keepUnedited = false;
+    /// Kept between calls on one loaded scene (the studio's session): what the field
+    /// derives from the mesh alone (field::FieldCache; must be for the loaded
+    /// scene's frames). The field is the same to the bit with or without it.
+    field::FieldCache *fieldCache = nullptr;
     /// Runs right after the scene is built, before any field work: may change the
     /// scene (a benchmark subdivides the mesh) or refuse it by throwing (the CLI's
     /// memory check). Counted in the "load" stage's time.

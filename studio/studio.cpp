@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -30,6 +31,9 @@ using nlohmann::json;
 using field::Vec3;
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 constexpr size_t kMaxSceneBytes = 4u << 20; // as the scene parser (README, "Limits")
 constexpr size_t kMaxElements = 1000, kMaxEdits = 1000;
@@ -126,6 +130,7 @@ Studio::Studio(const std::string &scenePath, const StudioOptions &options) : m_p
     scenes::PipelineOptions po;
     po.load = options.load;
     m_loaded = scenes::loadScene(desc, po);
+    m_fieldCache = std::make_unique<field::FieldCache>(*m_loaded.frames);
     const field::Mesh &mesh = m_loaded.scene->mesh;
     m_display = makeDisplayMesh(mesh, mesh.nFaces() > options.displayAbove ? options.displayFaces : mesh.nFaces());
     if (decimated()) // picks on the display mesh go to the full surface: its rays, ready early
@@ -145,13 +150,17 @@ Studio::~Studio() = default;
 void Studio::rebuild(State &s) const {
     if (s.block.elements.size() > kMaxElements) bad("too many design elements", "at most 1000");
     if (s.block.edits.size() > kMaxEdits) bad("too many edits", "at most 1000");
+    auto t0 = Clock::now();
     const scenes::SceneDesc desc = scenes::parseScene(scenes::replaceFieldBlock(m_text, m_path, s.block), m_path);
+    m_timings.emplace_back("parse", msSince(t0));
     scenes::PipelineOptions po;
     po.load = m_options.load;
     po.applyEdits = false; // applied one by one below, moves re-aimed first
-    scenes::SceneFieldResult r = scenes::buildSceneField(m_loaded, desc.field, po);
+    po.fieldCache = m_fieldCache.get();
+    scenes::SceneFieldResult r = scenes::buildSceneField(m_loaded, desc.field, po, &m_timings);
     const field::TangentFrames &frames = *m_loaded.frames;
     field::RosyField f = std::move(r.field.field);
+    t0 = Clock::now();
     for (size_t i = 0; i < s.block.edits.size(); ++i) {
         field::FieldEdit e = desc.field.edits[i];
         if (e.op == field::FieldEdit::Op::Move && std::isfinite(s.moveFrom[i].x())) {
@@ -176,18 +185,24 @@ void Studio::rebuild(State &s) const {
                 "delete that edit (or undo) first");
         }
     }
-    s.singularities = field::findSingularities(frames, f);
+    m_timings.emplace_back("edits", msSince(t0));
+    t0 = Clock::now();
+    // Without edits the pipeline's singularities are those of this very field.
+    s.singularities = s.block.edits.empty() ? std::move(r.singularities) : field::findSingularities(frames, f);
     s.elementNormals.clear();
-    for (const auto &el : s.block.elements) { // direction elements only: a linear search each, as the library's
-        const field::SnappedElement snap =
-            el.order == 0 ? field::snapToSurface(frames.mesh(), el.position) : field::SnappedElement{};
-        s.elementNormals.push_back(snap.face >= 0 ? frames.mesh().faceNormal(snap.face) : Vec3::Zero());
-    }
+    const std::vector<field::SnappedElement> snaps = m_fieldCache->snapped(desc.field.spec.elements); // as the field's
+    for (size_t k = 0; k < snaps.size(); ++k) // direction elements only
+        s.elementNormals.push_back(desc.field.spec.elements[k].order == 0 && snaps[k].face >= 0
+                                       ? frames.mesh().faceNormal(snaps[k].face)
+                                       : Vec3::Zero());
+    m_timings.emplace_back("singularities", msSince(t0));
+    t0 = Clock::now();
     // Directions: only where the field changed from the state `s` was copied from.
     const field::RosyField previous = std::move(s.field);
     s.field = std::move(f);
     updateDirections(frames, m_display.fullVertex, s.field, s.directions,
                      previous.u.size() == s.field.u.size() ? &previous : nullptr);
+    m_timings.emplace_back("directions", msSince(t0));
 }
 
 void Studio::push(State next) {
@@ -209,6 +224,7 @@ std::string Studio::edit(const std::string &body) {
             "ops: add_element, update_element, delete_element, cancel, move_singularity, delete_edit, set");
     const std::string op = j["op"];
     std::lock_guard lock(m_mutex);
+    m_timings.clear();
     State next = *m_state;
     const field::TangentFrames &frames = *m_loaded.frames;
     const auto &sings = m_state->singularities.singularities;
@@ -304,14 +320,33 @@ std::string Studio::edit(const std::string &body) {
     if (incremental) {
         if (next.block.edits.size() > kMaxEdits) bad("too many edits", "at most 1000");
         // The same as rebuild() would do: the new edit applied to the current field.
+        auto t0 = Clock::now();
         field::applyFieldEdits(frames, next.field, {next.block.edits.back()});
+        m_timings.emplace_back("edits", msSince(t0));
+        t0 = Clock::now();
         next.singularities = field::findSingularities(frames, next.field);
+        m_timings.emplace_back("singularities", msSince(t0));
+        t0 = Clock::now();
         updateDirections(frames, m_display.fullVertex, next.field, next.directions, &m_state->field);
+        m_timings.emplace_back("directions", msSince(t0));
     } else {
         rebuild(next);
     }
     push(std::move(next));
-    return editResponse();
+    const auto t0 = Clock::now();
+    std::string response = editResponse();
+    m_timings.emplace_back("response", msSince(t0));
+    return response;
+}
+
+field::RosyField Studio::field() const {
+    std::lock_guard lock(m_mutex);
+    return m_state->field;
+}
+
+scenes::StageTimings Studio::lastEditTimings() const {
+    std::lock_guard lock(m_mutex);
+    return m_timings;
 }
 
 std::string Studio::undo() {

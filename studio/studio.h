@@ -99,6 +99,12 @@ public:
     std::string save(const std::string &name);
     /// The scene text the current state would save.
     std::string sceneText() const;
+    /// The current field (after the edits), as the pipeline built it.
+    field::RosyField field() const;
+    /// Milliseconds per step of the last edit(), in order: parse (the scene text
+    /// with the new `field:` block), the pipeline's field and singularities stages,
+    /// edits (applied again after a rebuild), singularities, directions, response.
+    scenes::StageTimings lastEditTimings() const;
 
 private:
     struct State;
@@ -112,6 +118,9 @@ private:
     std::string m_text; ///< the scene file as read
     StudioOptions m_options;
     scenes::LoadedScene m_loaded;
+    /// What every field on the mesh shares (curvature, guide, Laplacian, snaps), kept
+    /// across edits; the field is the same to the bit without it (field::FieldCache).
+    std::unique_ptr<field::FieldCache> m_fieldCache;
     DisplayMesh m_display;
     std::string m_meshBytes;   ///< meshBinary(): the display mesh never changes
     std::string m_normalBytes; ///< the field response's constant half: f32 display vertex normals
@@ -124,6 +133,7 @@ private:
     std::shared_ptr<const State> m_original; ///< the state the scene file gave
     std::vector<std::unique_ptr<State>> m_undo, m_redo;
     mutable std::mutex m_mutex;
+    mutable scenes::StageTimings m_timings; ///< lastEditTimings(), with m_mutex held
     // Previews: the scene loaded at the preview's resolution and its ray scene.
     std::mutex m_previewMutex;
     std::array<int, 2> m_previewSize{0, 0};

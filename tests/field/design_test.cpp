@@ -148,3 +148,81 @@ TEST(Design, ElementsConstrainACurvatureField) {
         }
     }
 }
+
+// A FieldCache kept across calls (the studio's session) must give every field bit
+// for bit as a build without one: the same steps, only remembered. The sequence
+// switches N, source, weights and elements back and forth, so an entry kept under
+// the wrong key (a Laplacian of another N, a stale snap) changes some field.
+TEST(FieldCache, GivesTheFieldOfAColdBuildBitForBit) {
+    Mesh torus = makeTorus(2.0, 0.8, 40, 20);
+    TangentFrames fr(torus);
+    FieldCache cache(fr);
+    DesignElement pos, neg, dir;
+    pos.position = Vec3(2.8, 0.0, 0.0);
+    pos.order = 1;
+    neg.position = Vec3(-2.8, 0.0, 0.0);
+    neg.order = -1;
+    neg.phaseRad = 0.4;
+    dir.position = Vec3(0.0, 2.75, 0.1);
+    dir.direction = Vec3(0.3, 0.0, 1.0);
+    std::vector<FieldSpec> specs;
+    FieldSpec spec; // curvature, N = 4, no elements
+    specs.push_back(spec);
+    spec.elements = {pos};
+    specs.push_back(spec);
+    spec.elements = {pos, neg};
+    specs.push_back(spec);
+    spec.elements = {pos, neg, dir};
+    specs.push_back(spec);
+    spec.nSym = 2;
+    specs.push_back(spec);
+    spec.nSym = 4;
+    spec.smoothingLength = 0; // the relaxation with the curvature guide
+    specs.push_back(spec);
+    spec.smoothingLength = 0.05;
+    spec.globalSmoothingIterations = 3;
+    specs.push_back(spec);
+    spec.globalSmoothingIterations = 0;
+    spec.source = FieldSource::Design;
+    specs.push_back(spec);
+    spec.weights = LaplaceWeights::Cotan;
+    specs.push_back(spec);
+    spec.source = FieldSource::Smoothest;
+    specs.push_back(spec);
+    spec.nSym = 3;
+    specs.push_back(spec);
+    spec = FieldSpec{};
+    spec.elements = {neg, dir};
+    spec.curvature.smoothingRounds = 1;
+    specs.push_back(spec);
+    specs.push_back(specs[2]); // again, everything it needs cached
+    for (size_t k = 0; k < specs.size(); ++k) {
+        const FieldResult cold = buildField(fr, specs[k]);
+        const FieldResult warm = buildField(fr, specs[k], &cache);
+        ASSERT_EQ(cold.field.nSym, warm.field.nSym);
+        ASSERT_EQ(cold.field.u.size(), warm.field.u.size());
+        int differ = 0;
+        for (int v = 0; v < cold.field.u.size(); ++v) differ += !(cold.field.u[v] == warm.field.u[v]);
+        EXPECT_EQ(differ, 0) << "spec " << k;
+        EXPECT_EQ(cold.curvature.size(), warm.curvature.size()) << "spec " << k;
+        EXPECT_EQ(cold.eigenSolve.has_value(), warm.eigenSolve.has_value()) << "spec " << k;
+    }
+    // And the cold build is the chain of the library's own steps, as before there was
+    // a cache (curvature, its guide, the elements' constraints, the aligned solve).
+    for (size_t k : {size_t(3), size_t(4)}) {
+        const FieldSpec &s = specs[k];
+        const RosyField guide = curvatureField(fr, computeCurvature(torus, s.curvature), s.nSym);
+        std::vector<char> fixed;
+        Eigen::VectorXcd values;
+        elementConstraints(fr, s.nSym, s.elements, fixed, values);
+        const RosyField direct = alignedField(fr, guide, s.smoothingLength, fixed, values);
+        const RosyField built = buildField(fr, s, &cache).field;
+        EXPECT_TRUE(direct.u == built.u) << "spec " << k;
+    }
+    // The specs do give different fields (the comparison above can fail).
+    const FieldResult a = buildField(fr, specs[1], &cache), b = buildField(fr, specs[2], &cache);
+    EXPECT_FALSE(a.field.u == b.field.u);
+    // A cache belongs to one mesh's frames.
+    TangentFrames other(torus);
+    EXPECT_ANY_THROW(buildField(other, specs[0], &cache));
+}

@@ -462,6 +462,52 @@ TEST_F(Studio, SavedSceneRendersExactlyThePreview) {
     EXPECT_EQ(slurp(scenePath), text);
 }
 
+// The studio keeps what the field derives from the mesh alone across edits
+// (field::FieldCache), and the saved scene must still give the preview byte for
+// byte: after every element added (and N, source and elements changed), the
+// studio's field is bit for bit the field a cold run of the pipeline builds from
+// the scene text it would save, with the same singularities.
+TEST_F(Studio, ElementAdditionsGiveTheColdPipelinesFieldBitForBit) {
+    const json s0 = state();
+    const std::vector<double> p = s0["singularities"][0]["position"], q = s0["singularities"][1]["position"];
+    const std::vector<json> edits = {
+        {{"op", "add_element"}, {"position", p}, {"order", 1}, {"phase", 30}},
+        {{"op", "add_element"}, {"position", q}, {"order", -1}},
+        {{"op", "add_element"}, {"position", {p[0] + 1.0 / 300, p[1], p[2]}}, {"order", 0},
+         {"direction", {0.3, 1.0 / 3.0, 0.1}}},
+        {{"op", "set"}, {"symmetry", 2}},
+        {{"op", "add_element"}, {"position", {q[0], q[1] + 1.0 / 700, q[2]}}, {"order", 1}, {"strength", 0.5}},
+        {{"op", "set"}, {"symmetry", 4}, {"smoothing_length", 0.05}},
+        {{"op", "set"}, {"source", "design"}},
+        {{"op", "set"}, {"source", "curvature"}},
+        {{"op", "delete_element"}, {"index", 0}},
+    };
+    rosy::field::RosyField before = studio->field();
+    for (size_t k = 0; k < edits.size(); ++k) {
+        auto r = edit(edits[k]);
+        ASSERT_TRUE(r);
+        ASSERT_EQ(r->status, 200) << edits[k].dump() << ": " << r->body;
+        const rosy::field::RosyField warm = studio->field();
+        EXPECT_FALSE(warm.nSym == before.nSym && warm.u == before.u) << "edit " << k << " changed nothing";
+        before = warm;
+        // Cold: a fresh scene loaded from the text the studio would save.
+        const rosy::scenes::SceneDesc desc = rosy::scenes::parseScene(studio->sceneText(), scenePath);
+        const rosy::scenes::SceneField cold = rosy::scenes::buildSceneField(desc);
+        const rosy::field::RosyField &f = cold.field.field.field;
+        ASSERT_EQ(f.nSym, warm.nSym) << "edit " << k;
+        ASSERT_EQ(f.u.size(), warm.u.size());
+        int differ = 0;
+        for (int v = 0; v < f.u.size(); ++v) differ += !(f.u[v] == warm.u[v]);
+        EXPECT_EQ(differ, 0) << "edit " << k << ": vertices whose field differs from a cold build";
+        const json sings = json::parse(studio->singularitiesJson())["singularities"];
+        ASSERT_EQ(sings.size(), cold.field.singularities.singularities.size()) << "edit " << k;
+        for (size_t i = 0; i < sings.size(); ++i) {
+            EXPECT_EQ(sings[i]["face"], cold.field.singularities.singularities[i].face);
+            EXPECT_EQ(sings[i]["index_numerator"], cold.field.singularities.singularities[i].indexNumerator);
+        }
+    }
+}
+
 TEST_F(Studio, ConcurrentRequestsSeeOneField) {
     const json s0 = state();
     const std::vector<double> p = s0["singularities"][0]["position"];
