@@ -4,7 +4,10 @@
 //     field and singularities are received, against the library's own edit
 //     (field::applyFieldEdits + findSingularities on the same field);
 //   - an element added (the whole field rebuilt) through HTTP, against
-//     scenes::buildSceneField() of the scene (the field pipeline alone);
+//     scenes::buildSceneField() of the scene (the field pipeline alone), and in
+//     process with its steps (Studio::lastEditTimings(): parse, field,
+//     singularities, directions, response; the mesh-only parts are kept in the
+//     studio's field::FieldCache);
 //   - a first load (Studio built, then state, mesh and field fetched), against
 //     scenes::buildSceneField() of the scene;
 //   - a 512² preview PNG, against scenes::renderScene() at 512² (no file written).
