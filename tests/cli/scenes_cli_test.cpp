@@ -354,7 +354,8 @@ TEST(SceneOutputsCli, OneRenderWritesEveryListedOutput) {
 TEST(SceneOutputsCli, PrintModeWarnsAndReportsWhatThePipelineChose) {
     const fs::path dir = workDir();
     const fs::path scene = writeScene("pen.yaml", kTiny);
-    const CliRun r = run("render " + quoted(scene) + " -o pen.svg --pen-mm 0.05 --report pen.json", "pen");
+    const CliRun r =
+        run("render " + quoted(scene) + " -o pen.svg --pen-mm 0.05 --report pen.json --timings pen-t.json", "pen");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("warning: the pen is 0.05 mm wide"), std::string::npos) << r.err;
     const nlohmann::json report = nlohmann::json::parse(slurp(dir / "pen.json"));
@@ -367,9 +368,15 @@ TEST(SceneOutputsCli, PrintModeWarnsAndReportsWhatThePipelineChose) {
     EXPECT_NE(r.err.find("warning: the page needs more than 192 px"), std::string::npos) << r.err;
     EXPECT_NE(slurp(dir / "pen.svg").find("stroke-width=\"0.05\""), std::string::npos);
     // A PNG alone is not in print mode: no pen in the report.
-    const CliRun png = run("render " + quoted(scene) + " -o pen.png --report pen-png.json -q", "pen-png");
+    const CliRun png =
+        run("render " + quoted(scene) + " -o pen.png --report pen-png.json --timings png-t.json -q", "pen-png");
     ASSERT_EQ(png.exitCode, 0) << png.err;
     EXPECT_FALSE(nlohmann::json::parse(slurp(dir / "pen-png.json")).contains("pen_width_mm"));
+    // An SVG alone skips the raster stage (issue 18); the PNG needs it.
+    const nlohmann::json svgTimes = nlohmann::json::parse(slurp(dir / "pen-t.json"));
+    EXPECT_TRUE(svgTimes.contains("hatching")) << svgTimes.dump();
+    EXPECT_FALSE(svgTimes.contains("raster")) << svgTimes.dump();
+    EXPECT_TRUE(nlohmann::json::parse(slurp(dir / "png-t.json")).contains("raster"));
 }
 
 // -o (repeatable) replaces the scene's list: only the command line's files appear.
