@@ -22,27 +22,25 @@ double nominalHatchSpacingPx(const styles::HatchStyle &style) {
     return localSpacingPx(0.25, style);
 }
 
-Illustration renderIllustration(const IllustrationInput &in) {
-    ROSY_CHECK(in.mesh && in.frames && in.field && in.singularities && in.scene && in.camera);
+namespace {
+
+/// The stages' order in Illustration::timingsMs, whichever ran first.
+constexpr const char *kStageOrder[] = {"gbuffer", "tone", "screen_field", "hatching", "contours", "raster"};
+
+} // namespace
+
+Illustration beginIllustration(const IllustrationInput &in) {
+    ROSY_CHECK(in.mesh && in.scene && in.camera);
     const Camera &camera = *in.camera;
     Illustration out;
     out.worldToCamera = camera.worldToCamera();
     out.worldToNdc = camera.worldToNdc();
     out.ink = in.style.ink;
-    // One display over the six stages (five without the raster), naming the running
-    // one, with the time left estimated from their usual shares (--timings of
-    // scenes/bunny.yaml at 2048²); it only shows on a terminal after about a second.
-    std::vector<ProgressStage> stages = {{"gbuffer", 12}, {"tone", 9}, {"screen field", 17}, {"hatching", 35},
-                                         {"contours", 3}};
-    if (in.raster) stages.push_back({"raster", 24});
-    Progress progress("rendering", std::move(stages));
-    size_t stage = 0;
     auto t0 = Clock::now();
     auto lap = [&](const char *name) {
         auto t = Clock::now();
         out.timingsMs.emplace_back(name, std::chrono::duration<double, std::milli>(t - t0).count());
         t0 = t;
-        progress.beginStage(++stage);
     };
     out.gbuffer = renderGBuffer(*in.scene, *in.mesh, camera);
     lap("gbuffer");
@@ -59,6 +57,29 @@ Illustration renderIllustration(const IllustrationInput &in) {
             out.targetDensity[i] = float(std::min(darkest, std::pow(std::clamp(1.0 - tone[i], 0.0, 1.0), gamma)));
     lap("tone");
 
+    // Contours need no field: traced here, appended after the hatches by finishIllustration().
+    out.contourStrokes = extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
+    lap("contours");
+    return out;
+}
+
+void finishIllustration(Illustration &out, const IllustrationInput &in) {
+    ROSY_CHECK(in.frames && in.field && in.singularities && in.camera);
+    const Camera &camera = *in.camera;
+    // One display over the remaining stages, naming the running one, with the time
+    // left estimated from their usual shares (--timings of scenes/bunny.yaml at 2048²);
+    // it only shows on a terminal after about a second.
+    std::vector<ProgressStage> stages = {{"screen field", 17}, {"hatching", 35}};
+    if (in.raster) stages.push_back({"raster", 24});
+    Progress progress("rendering", std::move(stages));
+    size_t stage = 0;
+    auto t0 = Clock::now();
+    auto lap = [&](const char *name) {
+        auto t = Clock::now();
+        out.timingsMs.emplace_back(name, std::chrono::duration<double, std::milli>(t - t0).count());
+        t0 = t;
+        progress.beginStage(++stage);
+    };
     out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
     lap("screen_field");
 
@@ -66,12 +87,11 @@ Illustration renderIllustration(const IllustrationInput &in) {
     if (in.measureHatching) out.hatch = measureHatches(out.strokes, out.screen, out.targetDensity, in.style.hatch);
     lap("hatching");
 
-    StrokeList contours = extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
     // Contour ids start at kContourIdBase, so every stroke's id stays unique.
-    for (Stroke &s : contours.strokes) out.strokes.strokes.push_back(std::move(s));
+    for (Stroke &s : out.contourStrokes.strokes) out.strokes.strokes.push_back(std::move(s));
+    out.contourStrokes = {};
     out.strokes.width = out.gbuffer.width;
     out.strokes.height = out.gbuffer.height;
-    lap("contours");
 
     if (in.raster) {
         out.layers = rasterizeStrokes(out.strokes);
@@ -79,6 +99,20 @@ Illustration renderIllustration(const IllustrationInput &in) {
         lap("raster");
     }
     progress.finish();
+    std::stable_sort(out.timingsMs.begin(), out.timingsMs.end(), [](const auto &a, const auto &b) {
+        auto rank = [](const std::string &name) {
+            return std::find_if(std::begin(kStageOrder), std::end(kStageOrder),
+                                [&](const char *s) { return name == s; }) -
+                   std::begin(kStageOrder);
+        };
+        return rank(a.first) < rank(b.first);
+    });
+}
+
+Illustration renderIllustration(const IllustrationInput &in) {
+    ROSY_CHECK(in.mesh && in.frames && in.field && in.singularities && in.scene && in.camera);
+    Illustration out = beginIllustration(in);
+    finishIllustration(out, in);
     return out;
 }
 

@@ -57,6 +57,9 @@ struct Illustration {
     Image composite;    ///< linear RGB + alpha over paper; empty when IllustrationInput::raster is off
     HatchReport hatch;  ///< measured independently of the tracer (measureHatches), if asked
     ContourReport contours;
+    /// The contours between beginIllustration() and finishIllustration(), which
+    /// moves them to the end of `strokes`; empty after it.
+    StrokeList contourStrokes;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster
     // For the EXR: the camera as OpenEXR's standard attributes (Camera::worldToCamera(),
     // Camera::worldToNdc()) and the ink colour its premultiplied RGB carries.
@@ -65,8 +68,21 @@ struct Illustration {
     styles::Rgb ink = {0.0, 0.0, 0.0};
 };
 
-/// Runs the whole pipeline. Deterministic for any thread count.
+/// Runs the whole pipeline: beginIllustration() then finishIllustration().
+/// Deterministic for any thread count.
 Illustration renderIllustration(const IllustrationInput &input);
+
+/// The stages that need no field: G-buffer, tone (targetDensity) and contours
+/// (held in `contourStrokes`). Reads input.mesh, scene, camera, lights, shading
+/// and style; input.frames, field and singularities may still be null, so a
+/// caller can run this while the field is being built (scenes::renderScene()).
+Illustration beginIllustration(const IllustrationInput &input);
+
+/// The rest on a begun illustration: screen field, hatching (and its measurement),
+/// the contours appended after the hatches, raster. The result, timings included
+/// (in the order gbuffer, tone, screen_field, hatching, contours, raster), is
+/// exactly renderIllustration()'s.
+void finishIllustration(Illustration &begun, const IllustrationInput &input);
 
 /// The EXR of an illustration, for `rosyhatch inspect` and for compositors. Channels
 /// (illustrationExrChannelNames(), in that order; OpenEXR files list them sorted):

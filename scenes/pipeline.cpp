@@ -3,7 +3,10 @@
 #include "core/diagnostics.h"
 #include "renderer/field_picture.h"
 
+#include <tbb/task_group.h>
+
 #include <chrono>
+#include <exception>
 
 namespace rosy::scenes {
 
@@ -27,15 +30,45 @@ ThreadLimit::ThreadLimit(const SceneDesc &desc, std::optional<int> threads) {
     if (n > 0) m_control.emplace(tbb::global_control::max_allowed_parallelism, size_t(n));
 }
 
-LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options, StageTimings *timings) {
-    LoadedScene loaded;
-    loaded.scene = timed("load", timings, options, [&] {
+namespace {
+
+/// The "load" stage: buildScene() and options.afterLoad.
+std::unique_ptr<Scene> loadSceneObjects(const SceneDesc &desc, const PipelineOptions &options,
+                                        StageTimings *timings) {
+    return timed("load", timings, options, [&] {
         auto scene = std::make_unique<Scene>(buildScene(desc, options.load));
         if (options.afterLoad) options.afterLoad(*scene);
         return scene;
     });
-    loaded.frames = timed("frames", timings, options,
-                          [&] { return std::make_unique<field::TangentFrames>(loaded.scene->mesh); });
+}
+
+/// The "frames" stage.
+std::unique_ptr<field::TangentFrames> buildFrames(const Scene &scene, const PipelineOptions &options,
+                                                  StageTimings *timings) {
+    return timed("frames", timings, options, [&] { return std::make_unique<field::TangentFrames>(scene.mesh); });
+}
+
+/// What the drawing of a loaded scene reads, but the field and the ray scene.
+renderer::IllustrationInput illustrationInput(const LoadedScene &loaded, bool measureHatching, bool raster) {
+    const Scene &scene = *loaded.scene;
+    renderer::IllustrationInput in;
+    in.mesh = &scene.mesh;
+    in.frames = loaded.frames.get();
+    in.camera = &scene.camera;
+    in.lights = scene.lights;
+    in.shading = scene.shading;
+    in.style = scene.style;
+    in.measureHatching = measureHatching;
+    in.raster = raster;
+    return in;
+}
+
+} // namespace
+
+LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options, StageTimings *timings) {
+    LoadedScene loaded;
+    loaded.scene = loadSceneObjects(desc, options, timings);
+    loaded.frames = buildFrames(*loaded.scene, options, timings);
     return loaded;
 }
 
@@ -81,21 +114,67 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                     bool measureHatching, bool raster) {
-    const Scene &scene = *loaded.scene;
-    renderer::IllustrationInput in;
-    in.mesh = &scene.mesh;
-    in.frames = loaded.frames.get();
+    renderer::IllustrationInput in = illustrationInput(loaded, measureHatching, raster);
     in.field = &rosyField;
     in.singularities = &singularities;
     in.scene = &rays;
-    in.camera = &scene.camera;
-    in.lights = scene.lights;
-    in.shading = scene.shading;
-    in.style = scene.style;
-    in.measureHatching = measureHatching;
-    in.raster = raster;
     return renderer::renderIllustration(in);
 }
+
+namespace {
+
+/// renderScene() for `picture.kind: hatching`. After the load, two chains share the
+/// cores: the field (frames, field, singularities) on this thread and, as a task
+/// beside it, what needs no field (Embree BVH, G-buffer, tone, contours:
+/// renderer::beginIllustration()); then the rest of the drawing. The result is the
+/// same as running them one after the other: neither chain reads what the other
+/// writes. The task's stages reach `timings` and options.onStage from this thread,
+/// after the field's, in the order bvh, gbuffer, tone, screen_field, hatching,
+/// contours, raster; their times overlap the field's.
+RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &options, RenderResult out) {
+    out.loaded.scene = loadSceneObjects(desc, options, &out.timingsMs);
+    renderer::IllustrationInput in = illustrationInput(out.loaded, options.measureHatching, options.raster);
+    const field::Mesh &mesh = out.loaded.scene->mesh;
+    double bvhMs = 0;
+    std::optional<renderer::Illustration> begun;
+    tbb::task_group view;
+    view.run([&] {
+        const auto start = std::chrono::steady_clock::now();
+        out.rays = std::make_unique<renderer::RayScene>(mesh);
+        bvhMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        renderer::IllustrationInput viewIn = in;
+        viewIn.scene = out.rays.get();
+        begun = renderer::beginIllustration(viewIn);
+    });
+    try {
+        out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
+        out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+    } catch (...) {
+        // The view task reads the mesh: let it end before the scene goes. Its own
+        // failure, if any, is second to this one.
+        try {
+            view.wait();
+        } catch (...) {
+        }
+        throw;
+    }
+    view.wait(); // rethrows the task's exception (Embree failing)
+    out.timingsMs.emplace_back("bvh", bvhMs);
+    if (options.onStage) options.onStage("bvh", bvhMs);
+    in.frames = out.loaded.frames.get();
+    in.field = &out.field.field.field;
+    in.singularities = &out.field.singularities;
+    in.scene = out.rays.get();
+    out.illustration = std::move(*begun);
+    renderer::finishIllustration(*out.illustration, in);
+    for (const auto &[stage, ms] : out.illustration->timingsMs) {
+        out.timingsMs.emplace_back(stage, ms);
+        if (options.onStage) options.onStage(stage, ms);
+    }
+    return out;
+}
+
+} // namespace
 
 RenderResult renderScene(const SceneDesc &sceneDesc, const PipelineOptions &options) {
     const ThreadLimit limit(sceneDesc, options.threads);
@@ -109,37 +188,28 @@ RenderResult renderScene(const SceneDesc &sceneDesc, const PipelineOptions &opti
         for (const std::string &w : out.print->warnings) warn(sceneDesc.path, "print", w);
     }
     const SceneDesc &desc = printed ? *printed : sceneDesc;
+    if (desc.picture.kind.value != PictureDesc::Kind::Field) return renderHatching(desc, options, std::move(out));
     out.loaded = loadScene(desc, options, &out.timingsMs);
     out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
     const field::TangentFrames &frames = *out.loaded.frames;
     const field::RosyField &rosyField = out.field.field.field;
     const field::SingularityReport &singularities = out.field.singularities;
-    if (desc.picture.kind.value == PictureDesc::Kind::Field) {
-        if (desc.picture.separatrices.value)
-            out.separatrices = timed("separatrices", &out.timingsMs, options, [&] {
-                return field::traceSeparatrices(frames, rosyField, singularities.singularities);
-            });
-        renderer::FieldPictureOptions pictureOptions;
-        // Without a `lights` key the picture keeps its own light rather than the
-        // default key light buildScene() adds for hatching.
-        if (desc.lightsGiven) pictureOptions.lights = out.loaded.scene->lights;
-        // The drawing (fill and strokes) for an SVG, and its pixels: renderFieldPicture()
-        // is exactly rasterizeFieldDrawing(drawFieldPicture()).
-        out.fieldPicture = timed("field_picture", &out.timingsMs, options, [&] {
-            out.fieldDrawing = renderer::drawFieldPicture(out.loaded.scene->mesh, frames, rosyField, singularities,
-                                                          out.separatrices, out.loaded.scene->camera, pictureOptions);
-            return renderer::rasterizeFieldDrawing(*out.fieldDrawing);
+    // picture.kind: field
+    if (desc.picture.separatrices.value)
+        out.separatrices = timed("separatrices", &out.timingsMs, options, [&] {
+            return field::traceSeparatrices(frames, rosyField, singularities.singularities);
         });
-        return out;
-    }
-    out.rays = timed("bvh", &out.timingsMs, options,
-                     [&] { return std::make_unique<renderer::RayScene>(out.loaded.scene->mesh); });
-    out.illustration = drawHatching(out.loaded, rosyField, singularities, *out.rays, options.measureHatching,
-                                     options.raster);
-    for (const auto &[stage, ms] : out.illustration->timingsMs) {
-        out.timingsMs.emplace_back(stage, ms);
-        if (options.onStage) options.onStage(stage, ms);
-    }
+    renderer::FieldPictureOptions pictureOptions;
+    // Without a `lights` key the picture keeps its own light rather than the
+    // default key light buildScene() adds for hatching.
+    if (desc.lightsGiven) pictureOptions.lights = out.loaded.scene->lights;
+    // The drawing (fill and strokes) for an SVG, and its pixels: renderFieldPicture()
+    // is exactly rasterizeFieldDrawing(drawFieldPicture()).
+    out.fieldPicture = timed("field_picture", &out.timingsMs, options, [&] {
+        out.fieldDrawing = renderer::drawFieldPicture(out.loaded.scene->mesh, frames, rosyField, singularities,
+                                                      out.separatrices, out.loaded.scene->camera, pictureOptions);
+        return renderer::rasterizeFieldDrawing(*out.fieldDrawing);
+    });
     return out;
 }
 

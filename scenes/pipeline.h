@@ -176,6 +176,10 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
 /// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the
 /// field picture (separatrices when the scene asks for them; the scene's lights
 /// only when it has a `lights` key, else the picture's own light).
+/// For hatching, what needs no field (BVH, G-buffer, tone, contours:
+/// renderer::beginIllustration()) runs as a oneTBB task beside the frames and the
+/// field, so the two chains share the cores; the drawing is the same as run in
+/// sequence. Their stages are reported after the field's (timings overlap).
 /// \throws IoError / InputError from loading, editing and options.afterLoad;
 ///   std::runtime_error if Embree fails.
 RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options = {});

@@ -73,6 +73,39 @@ TEST(RenderScene, HatchingSceneGivesAnIllustrationAtTheCameraResolution) {
     EXPECT_EQ(reported, names); // the hook saw every stage, in order
 }
 
+TEST(RenderScene, OverlappedStagesDrawWhatTheChainDrawsOneAfterTheOther) {
+    // renderScene() builds the BVH, G-buffer, tone and contours beside the field;
+    // the drawing must be the one the stages give run in sequence (loadScene(),
+    // buildSceneField(), a RayScene, renderIllustration() through drawHatching()),
+    // on one thread and on several.
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    const scenes::LoadedScene loaded = scenes::loadScene(desc);
+    const scenes::SceneFieldResult field = scenes::buildSceneField(loaded, desc.field);
+    const renderer::RayScene rays(loaded.scene->mesh);
+    const renderer::Illustration chain = scenes::drawHatching(loaded, field.field.field, field.singularities, rays);
+    for (int threads : {1, 2}) {
+        scenes::PipelineOptions options;
+        options.threads = threads;
+        const scenes::RenderResult r = scenes::renderScene(desc, options);
+        ASSERT_TRUE(r.illustration.has_value());
+        const renderer::Illustration &il = *r.illustration;
+        ASSERT_EQ(il.strokes.strokes.size(), chain.strokes.strokes.size()) << threads;
+        for (size_t i = 0; i < il.strokes.strokes.size(); ++i) {
+            EXPECT_EQ(il.strokes.strokes[i].id, chain.strokes.strokes[i].id) << i;
+            EXPECT_EQ(il.strokes.strokes[i].points, chain.strokes.strokes[i].points) << i;
+        }
+        EXPECT_TRUE(il.contourStrokes.strokes.empty());
+        EXPECT_EQ(il.composite.data, chain.composite.data) << threads;
+        EXPECT_EQ(il.targetDensity, chain.targetDensity) << threads;
+        EXPECT_EQ(il.contours.nChains, chain.contours.nChains) << threads;
+        EXPECT_EQ(il.contours.visibleLengthPx, chain.contours.visibleLengthPx) << threads;
+        std::vector<std::string> illustrationStages;
+        for (const auto &[stage, ms] : il.timingsMs) illustrationStages.push_back(stage);
+        EXPECT_EQ(illustrationStages, (std::vector<std::string>{"gbuffer", "tone", "screen_field", "hatching",
+                                                                "contours", "raster"}));
+    }
+}
+
 TEST(RenderScene, FieldPictureSceneGivesThePictureAndNoStrokes) {
     const scenes::SceneDesc desc =
         scenes::parseScene(std::string(kTorus) + "picture: {kind: field, separatrices: true}\n", kScenePath);
