@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace rosy::renderer {
 namespace {
@@ -71,14 +72,16 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     // it only shows on a terminal after about a second.
     std::vector<ProgressStage> stages = {{"screen field", 17}, {"hatching", 35}};
     if (in.raster) stages.push_back({"raster", 24});
-    Progress progress("rendering", std::move(stages));
+    std::optional<Progress> progress;
+    if (in.progress) progress.emplace("rendering", std::move(stages));
     size_t stage = 0;
     auto t0 = Clock::now();
     auto lap = [&](const char *name) {
         auto t = Clock::now();
         out.timingsMs.emplace_back(name, std::chrono::duration<double, std::milli>(t - t0).count());
         t0 = t;
-        progress.beginStage(++stage);
+        ++stage;
+        if (progress) progress->beginStage(stage);
     };
     out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
     lap("screen_field");
@@ -98,7 +101,7 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         out.composite = compositeInk(out.layers, in.style);
         lap("raster");
     }
-    progress.finish();
+    if (progress) progress->finish();
     std::stable_sort(out.timingsMs.begin(), out.timingsMs.end(), [](const auto &a, const auto &b) {
         auto rank = [](const std::string &name) {
             return std::find_if(std::begin(kStageOrder), std::end(kStageOrder),

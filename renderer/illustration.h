@@ -46,6 +46,9 @@ struct IllustrationInput {
     /// Off when only vector output (SVG) is written: `layers` and `composite` then
     /// stay empty and no "raster" timing is recorded.
     bool raster = true;
+    /// Show the terminal progress display of finishIllustration() (core/progress.h).
+    /// Off when several illustrations are drawn at once.
+    bool progress = true;
 };
 
 struct Illustration {

@@ -8,6 +8,10 @@
 #include "renderer/illustration.h"
 #include "renderer/evaluation/inspect.h"
 
+#include "core/parallel.h"
+
+#include <tbb/task_group.h>
+
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -51,22 +55,39 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
     const char letters[] = "abcdefgh";
 
     std::vector<ComparePanel> &panels = out.panels;
+    // What needs no field (BVH, G-buffer, tone, contours) is the same for every
+    // panel: drawn once, as a task beside the fields (renderScene() does the same).
+    std::unique_ptr<renderer::RayScene> rayScene;
+    std::optional<renderer::Illustration> begun;
+    double bvhMs = 0;
+    tbb::task_group view;
+    if (!spec.fieldPictures)
+        view.run([&] {
+            const auto start = std::chrono::steady_clock::now();
+            rayScene = std::make_unique<renderer::RayScene>(scene.mesh);
+            bvhMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            begun = beginHatching(loaded, *rayScene);
+        });
+    try {
     timed("fields", [&] {
         if (spec.variants.empty()) {
-            for (size_t k = 0; k < spec.symmetries.size(); ++k) {
+            // The fields are independent: built side by side, each into its own slot.
+            panels.resize(spec.symmetries.size());
+            parallelFor(0, int64_t(spec.symmetries.size()), [&](int64_t kk) {
+                const size_t k = size_t(kk);
                 PipelineOptions panelOptions = options;
+                panelOptions.onStage = nullptr; // called from several threads; "fields" covers them
                 panelOptions.nSym = spec.symmetries[k];
                 // The scene's edits name singularities of its own field: only that N gets them.
                 panelOptions.applyEdits = spec.symmetries[k] == fieldSpec.nSym;
                 SceneFieldResult built = buildSceneField(loaded, desc.field, panelOptions);
-                ComparePanel panel;
+                ComparePanel &panel = panels[k];
                 panel.field = std::move(built.field.field);
                 panel.singularities = std::move(built.singularities);
                 const std::string edited = built.edits.empty() ? "" : ", edited";
                 panel.label = std::string("(") + letters[k] + ") " + std::to_string(spec.symmetries[k]) + "-RoSy" +
                               edited + ": " + countText(panel.singularities.singularities.size());
-                panels.push_back(std::move(panel));
-            }
+            }, options.fieldCache ? int64_t(spec.symmetries.size()) : 1); // one cache: one at a time
             return;
         }
         // The scene's field as built; each variant starts from a copy of it.
@@ -122,12 +143,24 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         }
     });
 
-    // One picture per panel, all through the scene's camera.
-    std::unique_ptr<renderer::RayScene> rayScene;
-    if (!spec.fieldPictures)
-        rayScene = timed("bvh", [&] { return std::make_unique<renderer::RayScene>(scene.mesh); });
+    } catch (...) {
+        // The task reads the scene: let it end first; its own failure is second to this one.
+        try {
+            view.wait();
+        } catch (...) {
+        }
+        throw;
+    }
+    view.wait(); // rethrows the task's failure (Embree)
+    if (!spec.fieldPictures) {
+        out.timingsMs.emplace_back("bvh", bvhMs);
+        if (options.onStage) options.onStage("bvh", bvhMs);
+    }
+    // One picture per panel, all through the scene's camera, side by side (the
+    // hatching tracer is sequential); each panel's result depends on its field only.
     timed("panels", [&] {
-        for (ComparePanel &panel : panels) {
+        parallelFor(0, int64_t(panels.size()), [&](int64_t k) {
+            ComparePanel &panel = panels[size_t(k)];
             if (spec.fieldPictures) {
                 std::vector<field::Separatrix> seps;
                 if (spec.separatrices)
@@ -136,16 +169,17 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                 fo.lights = scene.lights;
                 panel.picture = renderer::renderFieldPicture(scene.mesh, frames, panel.field, panel.singularities,
                                                              seps, scene.camera, fo);
-                continue;
+                return;
             }
-            renderer::Illustration il = drawHatching(loaded, panel.field, panel.singularities, *rayScene);
+            renderer::Illustration il = finishHatching(*begun, loaded, panel.field, panel.singularities, *rayScene,
+                                                       true, true, /*progress=*/false);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.
             panel.seamFraction = renderer::inspectInk(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;
             panel.strokesNearSingularities = il.hatch.strokesNearSingularities;
             panel.stubFraction = il.hatch.stubFraction;
             panel.picture = std::move(il.composite);
-        }
+        }, 1);
     });
 
     return out;

@@ -121,6 +121,25 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
     return renderer::renderIllustration(in);
 }
 
+renderer::Illustration beginHatching(const LoadedScene &loaded, const renderer::RayScene &rays) {
+    renderer::IllustrationInput in = illustrationInput(loaded, true, true);
+    in.scene = &rays;
+    return renderer::beginIllustration(in);
+}
+
+renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
+                                      const field::RosyField &rosyField,
+                                      const field::SingularityReport &singularities, const renderer::RayScene &rays,
+                                      bool measureHatching, bool raster, bool progress) {
+    renderer::IllustrationInput in = illustrationInput(loaded, measureHatching, raster);
+    in.field = &rosyField;
+    in.singularities = &singularities;
+    in.scene = &rays;
+    in.progress = progress;
+    renderer::finishIllustration(begun, in);
+    return begun;
+}
+
 namespace {
 
 /// renderScene() for `picture.kind: hatching`. After the load, two chains share the

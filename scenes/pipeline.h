@@ -171,6 +171,17 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                     bool measureHatching = true, bool raster = true);
 
+/// drawHatching() in two halves, for callers drawing several fields of one scene
+/// (compareScene()): beginHatching() runs what needs no field (G-buffer, tone,
+/// contours: renderer::beginIllustration()) once; finishHatching() draws one field
+/// on a copy of it. finishHatching(beginHatching(...), ...) is drawHatching().
+/// `progress` off: no terminal display (for panels drawn side by side).
+renderer::Illustration beginHatching(const LoadedScene &loaded, const renderer::RayScene &rays);
+renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
+                                      const field::RosyField &rosyField,
+                                      const field::SingularityReport &singularities, const renderer::RayScene &rays,
+                                      bool measureHatching = true, bool raster = true, bool progress = true);
+
 /// The whole pipeline: print mode when options.print (applyPrintUnits() on a copy
 /// of `desc`), buildSceneField(), then the scene's picture — the
 /// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the

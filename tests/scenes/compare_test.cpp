@@ -5,6 +5,7 @@
 #include "renderer/output/bitmap_font.h"
 #include "renderer/output/panel_sheet.h"
 #include "scenes/compare.h"
+#include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
 #include <gtest/gtest.h>
@@ -47,6 +48,31 @@ TEST(CompareScene, OnePanelPerSymmetryInOrderWithLabelsAndPictures) {
     std::vector<std::string> stages;
     for (const auto &[stage, ms] : c.timingsMs) stages.push_back(stage);
     EXPECT_EQ(stages, (std::vector<std::string>{"load", "frames", "fields", "bvh", "panels"}));
+}
+
+TEST(CompareScene, EachPanelIsTheRenderOfItsSymmetry) {
+    // compareScene() shares the G-buffer, tone and contours between panels and draws
+    // the fields and panels side by side; each panel must still be exactly the
+    // composite renderScene() draws for that N, on one thread and on several.
+    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    for (int threads : {1, 2}) {
+        scenes::PipelineOptions options;
+        options.threads = threads;
+        scenes::CompareSpec spec;
+        spec.symmetries = {2, 4};
+        const scenes::ThreadLimit limit(desc, threads);
+        const scenes::Comparison c = scenes::compareScene(desc, spec, options);
+        ASSERT_EQ(c.panels.size(), 2u);
+        for (size_t k = 0; k < 2; ++k) {
+            scenes::PipelineOptions one = options;
+            one.nSym = spec.symmetries[k];
+            const scenes::RenderResult r = scenes::renderScene(desc, one);
+            ASSERT_TRUE(r.illustration.has_value());
+            EXPECT_EQ(c.panels[k].picture.data, r.illustration->composite.data) << "N " << spec.symmetries[k];
+            EXPECT_EQ(c.panels[k].stubFraction, r.illustration->hatch.stubFraction);
+            EXPECT_EQ(c.panels[k].singularities.singularities.size(), r.field.singularities.singularities.size());
+        }
+    }
 }
 
 TEST(CompareScene, VariantsKeepTheirOrderAndFieldPicturesHaveNoInkFigures) {
