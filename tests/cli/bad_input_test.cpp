@@ -297,16 +297,21 @@ TEST(BadInputCli, MissingImageModuleIsAnIoErrorAndSvgStillWorks) {
     const fs::path dir = workDir();
     put(dir / "m.off", ellipsoidOff(1.0));
     put(dir / "m.yaml", "mesh: m.off\ncamera: {resolution: [64, 64]}\n");
+    fs::remove(dir / "m.exr");
     fs::remove(dir / "m.png");
     const std::string noModule = "export ROSY_IMAGE_IO_MODULE='" + (dir / "nowhere" / "librosy_image_io.so").string() + "';";
-    CliRun r = run(dir, "render m.yaml -o m.png --quiet", noModule);
+    CliRun r = run(dir, "render m.yaml -o m.exr --quiet", noModule);
     EXPECT_EQ(r.exitCode, 3) << r.err;
     EXPECT_NE(r.err.find("cannot load the image I/O module"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("ROSY_IMAGE_IO_MODULE"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(dir / "m.png"));
+    EXPECT_FALSE(fs::exists(dir / "m.exr"));
     r = run(dir, "render m.yaml -o m.svg --quiet", noModule);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "m.svg"));
+    // 8-bit PNG is written by libpng directly (renderer/output/png_write.h): no module needed.
+    r = run(dir, "render m.yaml -o m.png --quiet", noModule);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "m.png"));
     r = run(dir, "--help", noModule);
     EXPECT_EQ(r.exitCode, 0) << r.err;
 }
