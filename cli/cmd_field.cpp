@@ -67,15 +67,7 @@ struct FieldOptions {
     }
 };
 
-bool endsWith(const std::string &s, const std::string &suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-bool isSvgPath(const std::string &path) {
-    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
-    for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".svg";
-}
+bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
 
 // "L,x,y,z[,phase_deg]" or "0,x,y,z,dx,dy,dz".
 field::DesignElement parseElement(const std::string &text, int k) {
@@ -222,7 +214,7 @@ void runField(const FieldOptions &opt) {
     std::optional<tbb::global_control> threadLimit;
     if (opt.common.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
-    const bool isScene = endsWith(opt.input, ".yaml") || endsWith(opt.input, ".yml");
+    const bool isScene = hasExtension(opt.input, ".yaml") || hasExtension(opt.input, ".yml");
     std::optional<scenes::SceneDesc> scene;
     if (!isScene && !opt.overrides.empty())
         throw InputError(FileLoc{"--set " + opt.overrides.front()}, "--set overrides keys of a scene file",
@@ -355,9 +347,11 @@ void runField(const FieldOptions &opt) {
             renderer::drawFieldPicture(mesh, frames, rosyField, rep, seps, built.loaded.scene->camera);
         // SVG: the strokes through the SVG writer on its pen layers, on the scene's page
         // (A4 for a bare mesh); otherwise the raster picture.
-        if (isSvgPath(path))
-            renderer::writeSvg(renderer::fieldPictureStrokes(drawing), renderer::svgOptionsFor(desc.style.style.page),
-                               path);
+        if (isSvgPath(path)) {
+            renderer::SvgOptions svg = renderer::svgOptionsFor(desc.style.style.page);
+            svg.layerLabels = renderer::kFieldPictureLayerLabels;
+            renderer::writeSvg(renderer::fieldPictureStrokes(drawing), svg, path);
+        }
         else renderer::writeImage(renderer::rasterizeFieldDrawing(drawing), path);
         ms.emplace_back(stage, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     };

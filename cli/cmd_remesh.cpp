@@ -13,6 +13,9 @@
 #include "field/primitives.h"
 #include "remesh/quality.h"
 #include "remesh/remesh.h"
+#include "renderer/mesh_picture.h"
+#include "renderer/output/image_io.h"
+#include "renderer/output/svg.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
@@ -27,6 +30,7 @@ namespace {
 
 struct RemeshCliOptions {
     std::string input, output, reportPath;
+    std::string imagePath; ///< --image: a picture of the remeshed surface (raster or .svg)
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
     std::string separatrices = "off";
     double adaptiveScale = 0;
@@ -35,15 +39,6 @@ struct RemeshCliOptions {
     std::vector<std::string> overrides;
     CommonOptions common;
 };
-
-bool endsWith(const std::string &s, const std::string &suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::string lower(std::string s) {
-    for (char &c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 /// "--edge": a length in world units ("0.02") or a percentage of the diagonal ("1%").
 struct EdgeSpec {
@@ -74,12 +69,11 @@ EdgeSpec parseEdge(const std::string &text) {
 void runRemesh(const RemeshCliOptions &opt) {
     using Clock = std::chrono::steady_clock;
     const auto tStart = Clock::now();
-    const bool isScene = endsWith(lower(opt.input), ".yaml") || endsWith(lower(opt.input), ".yml");
+    const bool isScene = hasExtension(opt.input, ".yaml") || hasExtension(opt.input, ".yml");
     if (!isScene && !opt.overrides.empty())
         throw InputError(FileLoc{"--set " + opt.overrides.front()}, "--set overrides keys of a scene file",
                          "give a scene (.yaml) instead of a mesh");
-    const std::string ext = opt.output.size() >= 4 ? lower(opt.output.substr(opt.output.size() - 4)) : "";
-    if (ext != ".obj" && ext != ".off" && ext != ".ply")
+    if (!hasExtension(opt.output, ".obj") && !hasExtension(opt.output, ".off") && !hasExtension(opt.output, ".ply"))
         throw InputError(FileLoc{"-o"}, "cannot write a polygon mesh named '" + opt.output + "'",
                          "use .obj, .off or .ply (STL has triangles only)");
     if (opt.separatrices != "on" && opt.separatrices != "off")
@@ -89,6 +83,11 @@ void runRemesh(const RemeshCliOptions &opt) {
                                                     std::to_string(opt.symmetry),
                          "use --symmetry 4 or 6");
     const EdgeSpec edge = parseEdge(opt.edge);
+    const bool imageSvg = hasExtension(opt.imagePath, ".svg");
+    if (!opt.imagePath.empty() && !imageSvg && !renderer::isSupportedImagePath(opt.imagePath))
+        throw InputError(FileLoc{"--image"}, "cannot write an image named '" + opt.imagePath + "'",
+                         std::string("use one of the extensions ") + renderer::supportedImageExtensions() +
+                             ", or .svg for the edges as pen layers");
 
     scenes::SceneDesc desc;
     if (isScene) {
@@ -101,7 +100,8 @@ void runRemesh(const RemeshCliOptions &opt) {
     checkWritable(opt.output);
     if (!opt.reportPath.empty()) checkWritable(opt.reportPath);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
-    for (const std::string &out : {opt.output, opt.reportPath, opt.common.timingsPath}) {
+    if (!opt.imagePath.empty()) checkWritable(opt.imagePath);
+    for (const std::string &out : {opt.output, opt.reportPath, opt.common.timingsPath, opt.imagePath}) {
         checkNotAnInput(out, opt.input, isScene ? "scene file" : "input mesh");
         if (desc.mesh.file) checkNotAnInput(out, desc.mesh.file->value, "input mesh");
     }
@@ -110,6 +110,8 @@ void runRemesh(const RemeshCliOptions &opt) {
     const int sceneSym = desc.field.given ? desc.field.spec.nSym : 4;
     if (!opt.symmetryGiven && (sceneSym == 4 || sceneSym == 6)) nSym = sceneSym;
 
+    // OpenImageIO maps while the field is built (renderer/output/image_io.h).
+    if (!opt.imagePath.empty() && !imageSvg) renderer::preloadImageIo();
     OutputBatch outputs;
     scenes::PipelineOptions popt;
     popt.load = field::LoadOptions{opt.common.maxFaces};
@@ -144,10 +146,31 @@ void runRemesh(const RemeshCliOptions &opt) {
     const double qualityMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
     field::writePolyMesh(opt.output, result.poly);
+    double imageMs = -1;
+    if (!opt.imagePath.empty()) {
+        // The remeshed surface through the scene's camera (a bare mesh's automatic
+        // one), with the field's singularities as rings (renderer/mesh_picture.h).
+        t0 = Clock::now();
+        std::vector<field::Vec3> singular;
+        for (const field::Singularity &s : sf.field.singularities.singularities)
+            if (s.indexNumerator != 0) singular.push_back(s.position);
+        renderer::MeshPictureOptions mpo;
+        mpo.regularSides = nSym == 6 ? 3 : 4;
+        const renderer::FieldDrawing drawing =
+            renderer::drawMeshPicture(result.positions, result.polygons, singular, sf.loaded.scene->camera, mpo);
+        if (imageSvg) {
+            renderer::SvgOptions svg = renderer::svgOptionsFor(desc.style.style.page);
+            svg.layerLabels = renderer::kMeshPictureLayerLabels;
+            renderer::writeSvg(renderer::fieldPictureStrokes(drawing), svg, opt.imagePath);
+        }
+        else renderer::writeImage(renderer::rasterizeFieldDrawing(drawing), opt.imagePath);
+        imageMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    }
     std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
     for (const char *stage : {"hierarchy", "position", "extraction"}) ms.emplace_back(stage, result.timingsMs.at(stage));
     ms.emplace_back("remesh", remeshMs);
     ms.emplace_back("quality", qualityMs);
+    if (imageMs >= 0) ms.emplace_back("image", imageMs);
     ms.emplace_back("total", std::chrono::duration<double, std::milli>(Clock::now() - tStart).count());
     if (!opt.common.quiet) {
         std::printf("%s: %d vertices, %d faces (%.1f %% %s), %d irregular vertices, angle deviation p90 %.1f deg, "
@@ -209,6 +232,11 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
         ->capture_default_str();
     sub->add_option("--report", opt->reportPath, "Write the quality report (JSON) here");
+    sub->add_option("--image", opt->imagePath,
+                    "Write a picture of the remeshed surface through the scene's camera: edges, faces that are not "
+                    "quads (triangles for -n 6) tinted orange, irregular vertices (blue below the regular valence, "
+                    "red above), the field's singularities as black rings; an image, or .svg for pen layers "
+                    "(1 edges, 2 rings, 3 dots)");
     addSetOption(*sub, opt->overrides);
     addCommonOptions(*sub, opt->common);
     sub->callback([opt, sub, &action] {

@@ -50,13 +50,6 @@ struct RenderOptions {
     CommonOptions common;
 };
 
-bool hasExtension(const std::string &path, const char *dotExt) {
-    const std::string want(dotExt);
-    std::string ext = path.size() >= want.size() ? path.substr(path.size() - want.size()) : "";
-    for (char &ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    return ext == want;
-}
-
 bool isExrPath(const std::string &path) { return hasExtension(path, ".exr"); }
 bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
 
@@ -188,8 +181,10 @@ void runRender(const RenderOptions &opt) {
         timings.time("write", [&] {
             // SVG: the picture's streamlines, separatrices and dots on pen layers
             // (renderer/field_picture.h), as `rosyhatch field --image x.svg` writes them.
+            renderer::SvgOptions fieldSvg = svgOptions;
+            fieldSvg.layerLabels = renderer::kFieldPictureLayerLabels;
             for (const std::string &o : svgPaths)
-                renderer::writeSvg(renderer::fieldPictureStrokes(*result.fieldDrawing), svgOptions, o);
+                renderer::writeSvg(renderer::fieldPictureStrokes(*result.fieldDrawing), fieldSvg, o);
             for (const std::string &o : rasterPaths) renderer::writeImage(*result.fieldPicture, o);
         });
         if (!opt.common.timingsPath.empty())

@@ -89,6 +89,9 @@ struct CommonOptions {
     long long maxFaces = 20'000'000;
 };
 
+/// True if `path` ends in `dotExt` (e.g. ".svg"), ignoring case.
+bool hasExtension(const std::string &path, const char *dotExt);
+
 /// Adds --threads, --quiet, --timings and --max-faces to a subcommand.
 void addCommonOptions(CLI::App &sub, CommonOptions &options);
 

@@ -4,9 +4,17 @@
 #include "core/error.h"
 #include "core/json.h"
 
+#include <cctype>
 #include <cstdio>
 
 namespace rosy::cli {
+
+bool hasExtension(const std::string &path, const char *dotExt) {
+    const std::string want(dotExt);
+    std::string ext = path.size() >= want.size() ? path.substr(path.size() - want.size()) : "";
+    for (char &ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return ext == want;
+}
 
 void addCommonOptions(CLI::App &sub, CommonOptions &options) {
     sub.add_option("--threads", options.threads, "worker threads (0 = all cores; render and compare: overrides the scene's threads); "

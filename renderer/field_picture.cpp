@@ -9,8 +9,7 @@
 #include "core/parallel.h"
 #include "field/streamlines.h"
 #include "renderer/output/raster.h"
-#include "renderer/view/embree_scene.h"
-#include "renderer/view/gbuffer.h"
+#include "renderer/picture_common.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,92 +18,6 @@
 
 namespace rosy::renderer {
 namespace {
-
-/// Decides whether world points are seen by the camera, against the G-buffer.
-class Visibility {
-public:
-    Visibility(const GBuffer &gbuffer, const Camera &camera, double diagonal)
-        : m_gbuffer(gbuffer), m_camera(camera), m_diagonal(diagonal) {
-        const double scale = camera.projection() == Projection::Perspective
-                                 ? 2.0 * std::tan(0.5 * camera.fovYDeg() * M_PI / 180.0) / camera.height()
-                                 : camera.viewHeight() / camera.height();
-        m_footprintPerDepth = camera.projection() == Projection::Perspective ? scale : 0.0;
-        m_footprintConst = camera.projection() == Projection::Perspective ? 0.0 : scale;
-    }
-
-    /// True if p lies in front of the camera and on (not behind) the visible surface.
-    /// The 3x3 pixel neighbourhood is searched because a point's own pixel centre
-    /// may miss a silhouette or hit a steep neighbouring facet; the tolerance grows
-    /// with the pixel footprint so grazing surfaces keep their lines.
-    bool visible(const Vec3 &p, double slack = 1.0) const {
-        const double d = m_camera.depth(p);
-        if (!(d > 0)) return false;
-        const Vec2 r = m_camera.project(p);
-        if (!r.allFinite()) return false;
-        const int px = int(std::floor(r.x())), py = int(std::floor(r.y()));
-        if (px < -1 || py < -1 || px > m_gbuffer.width || py > m_gbuffer.height) return false;
-        const double footprint = m_footprintConst + m_footprintPerDepth * d;
-        const double tol = slack * (0.004 * m_diagonal + 3.0 * footprint);
-        for (int y = py - 1; y <= py + 1; ++y)
-            for (int x = px - 1; x <= px + 1; ++x) {
-                if (x < 0 || y < 0 || x >= m_gbuffer.width || y >= m_gbuffer.height) continue;
-                const size_t i = size_t(m_gbuffer.index(x, y));
-                if (m_gbuffer.faceId[i] >= 0 && d <= m_gbuffer.depth[i] + tol) return true;
-            }
-        return false;
-    }
-
-private:
-    const GBuffer &m_gbuffer;
-    const Camera &m_camera;
-    double m_diagonal;
-    double m_footprintPerDepth = 0, m_footprintConst = 0;
-};
-
-/// Appends the visible parts of a world polyline to `out` as strokes of full width
-/// `widthPx`: each segment is cut into pieces of at most ~1.5 px on screen and each
-/// piece kept or dropped by the visibility of its midpoint; a run of kept pieces is
-/// one stroke.
-void addVisibleStrokes(std::vector<Stroke> &out, const std::vector<field::Vec3> &points, const Camera &camera,
-                       const Visibility &vis, double widthPx) {
-    Stroke run;
-    auto finish = [&] {
-        if (run.points.size() >= 2) {
-            run.widths.assign(run.points.size(), float(widthPx));
-            run.id = uint32_t(out.size());
-            out.push_back(std::move(run));
-        }
-        run = Stroke{};
-    };
-    for (size_t i = 0; i + 1 < points.size(); ++i) {
-        const Vec3 &p0 = points[i], &p1 = points[i + 1];
-        const Vec2 r0 = camera.project(p0), r1 = camera.project(p1);
-        if (!(camera.depth(p0) > 0) || !(camera.depth(p1) > 0) || !r0.allFinite() || !r1.allFinite()) {
-            finish();
-            continue;
-        }
-        const int n = std::clamp(int(std::ceil((r1 - r0).norm() / 1.5)), 1, 4096);
-        for (int k = 0; k < n; ++k) {
-            const double t0 = double(k) / n, t1 = double(k + 1) / n;
-            if (!vis.visible(p0 + (0.5 * (t0 + t1)) * (p1 - p0))) {
-                finish();
-                continue;
-            }
-            if (run.points.empty()) run.points.push_back(r0 + t0 * (r1 - r0));
-            run.points.push_back(r0 + t1 * (r1 - r0));
-        }
-    }
-    finish();
-}
-
-/// A filled dot of radius r: a stroke of two equal points (a round cap), width 2r.
-Stroke dot(const Vec2 &centre, double r, uint32_t id) {
-    Stroke s;
-    s.points = {centre, centre};
-    s.widths = {float(2 * r), float(2 * r)};
-    s.id = id;
-    return s;
-}
 
 /// One seed face per cell of a 3D grid (cell size `spacing`), the lowest visible
 /// face id whose centroid falls in the cell: evenly spread seeds in a fixed order,
@@ -133,42 +46,16 @@ FieldDrawing drawFieldPicture(const field::Mesh &mesh, const field::TangentFrame
                               const std::vector<field::Separatrix> &separatrices, const Camera &camera,
                               const FieldPictureOptions &options) {
     const int width = camera.width(), height = camera.height();
+    ShadedFill shaded = shadedFill(mesh, camera, options.lights);
     FieldDrawing drawing;
     drawing.width = width;
     drawing.height = height;
-    drawing.fill = Image(width, height, {"R", "G", "B"});
-    std::fill(drawing.fill.data.begin(), drawing.fill.data.end(), 1.0f);
+    drawing.fill = std::move(shaded.fill);
     if (mesh.nFaces() == 0) return drawing;
-
-    Vec3 lo = mesh.position(0), hi = lo;
-    for (int v = 0; v < mesh.nVertices(); ++v) {
-        lo = lo.cwiseMin(mesh.position(v));
-        hi = hi.cwiseMax(mesh.position(v));
-    }
-    const double diagonal = std::max((hi - lo).norm(), 1e-12);
-
-    const RayScene scene(mesh);
-    const GBuffer gbuffer = renderGBuffer(scene, mesh, camera);
-    std::vector<Light> lights = options.lights;
-    if (lights.empty()) {
-        // A headlight a little above and left of the eye: every visible part is lit
-        // and the form still reads.
-        Light head;
-        head.direction = -camera.forward() + 0.35 * camera.up() - 0.25 * camera.right();
-        lights.push_back(head);
-    }
-    ShadingOptions shading;
-    shading.shadows = false;
-    shading.ambient = 0.2;
-    const std::vector<double> tone = shadeLambert(gbuffer, scene, mesh, camera, lights, shading);
-
-    // Light grey mesh: the lines carry the information, the tone only the form.
-    std::vector<float> &rgb = drawing.fill.data;
-    for (size_t i = 0; i < gbuffer.nPixels(); ++i) {
-        if (gbuffer.faceId[i] < 0) continue;
-        const float g = float(0.3 + 0.6 * tone[i]);
-        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = g;
-    }
+    const GBuffer &gbuffer = shaded.gbuffer;
+    const double diagonal = shaded.diagonal;
+    Vec3 lo = mesh.position(0);
+    for (int v = 0; v < mesh.nVertices(); ++v) lo = lo.cwiseMin(mesh.position(v));
 
     const double sizeScale = std::min(width, height) / 1024.0;
     const Visibility vis(gbuffer, camera, diagonal);

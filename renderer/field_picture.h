@@ -25,6 +25,7 @@
 #include "renderer/view/shading.h"
 #include "styles/style.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,11 @@ Image rasterizeFieldDrawing(const FieldDrawing &drawing);
 /// layer 3. The SVG writer draws each layer with one pen, so colours (and the rims
 /// and shading that serve them) are the raster picture's only.
 StrokeList fieldPictureStrokes(const FieldDrawing &drawing);
+
+/// The SVG layer labels of a field picture: "1 streamlines", "2 separatrices",
+/// "3 singularities" (for SvgOptions::layerLabels).
+inline constexpr std::array<const char *, 4> kFieldPictureLayerLabels{"1 streamlines", "2 separatrices",
+                                                                      "3 singularities", "4 unused"};
 
 /// rasterizeFieldDrawing(drawFieldPicture(...)): the field picture as an RGB image
 /// (channels R, G, B, linear light) of camera.width() x camera.height() pixels; the

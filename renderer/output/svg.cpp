@@ -219,7 +219,7 @@ std::string svgText(const StrokeList &list, const SvgOptions &optionsIn, SvgRepo
         // (first group of) digits of inkscape:label as the layer id, AxiDraw the
         // leading number; id="layerN" is vpype's own fallback and writing convention.
         out += "  <g inkscape:groupmode=\"layer\" id=\"layer" + std::to_string(l + 1) + "\" inkscape:label=\"";
-        out += kSvgLayerLabels[l];
+        out += options.layerLabels[l];
         out += "\" fill=\"none\" stroke=\"";
         out += l == 3 ? "#808080" : "#000000";
         out += "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"";

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "styles/style.h"
 
+#include <array>
 #include <optional>
 #include <string>
 #include <utility>
@@ -38,6 +39,11 @@ struct SvgOptions {
     bool plotterPass = true;   ///< merge, simplify and order strokes (plotter.h)
     PlotterOptions plotter;    ///< tolerances in raster px
     bool hiddenContours = true; ///< write the dashed layer when hidden contours exist
+    /// The layers' Inkscape labels (kSvgLayerLabels by default). Diagnostic pictures
+    /// name what their layers hold ("1 streamlines", "1 edges", ...); keep each
+    /// label's layer number first and its only digits, for vpype and AxiDraw.
+    std::array<const char *, 4> layerLabels{kSvgLayerLabels[0], kSvgLayerLabels[1], kSvgLayerLabels[2],
+                                            kSvgLayerLabels[3]};
 };
 
 /// Measurements of the written document, in page millimetres.

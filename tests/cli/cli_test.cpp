@@ -247,9 +247,9 @@ TEST(RenderCli, FieldPictureAsSvgBesideItsPng) {
         for (size_t p = svg.find("<path ", at); p != std::string::npos && p < end; p = svg.find("<path ", p + 1)) ++n;
         return n;
     };
-    EXPECT_GT(layerPaths("1 hatch"), 10);        // streamlines
-    EXPECT_GE(layerPaths("2 cross-hatch"), 1);   // separatrices
-    EXPECT_EQ(layerPaths("3 contours"), 1);      // the one singularity's dot
+    EXPECT_GT(layerPaths("1 streamlines"), 10);
+    EXPECT_GE(layerPaths("2 separatrices"), 1);
+    EXPECT_EQ(layerPaths("3 singularities"), 1); // the one singularity's dot
     // The report still needs strokes of a hatching.
     CliRun report = run("render '" + scene.string() + "' -o rf.svg --report rf.json --quiet", "render-field-report");
     EXPECT_EQ(report.exitCode, 2) << report.err;
@@ -282,9 +282,9 @@ TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
         if (at == std::string::npos) return -1;
         return count("<path ", at, svg.find("</g>", at));
     };
-    EXPECT_GT(layerPaths("1 hatch"), 10);
-    EXPECT_GE(layerPaths("2 cross-hatch"), 1);
-    EXPECT_EQ(layerPaths("3 contours"), 1);
+    EXPECT_GT(layerPaths("1 streamlines"), 10);
+    EXPECT_GE(layerPaths("2 separatrices"), 1);
+    EXPECT_EQ(layerPaths("3 singularities"), 1);
 
     // --image-before: the field before the scene's edit (the +1/4, −1/4 pair: two
     // dots), --image after it (no singularity left: an empty dot layer).
@@ -298,7 +298,7 @@ TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
     ASSERT_EQ(both.exitCode, 0) << both.err;
     auto dots = [&](const std::string &file) {
         const std::string text = slurp(workDir() / file);
-        const size_t at = text.find("inkscape:label=\"3 contours\"");
+        const size_t at = text.find("inkscape:label=\"3 singularities\"");
         if (at == std::string::npos) return -1;
         int n = 0;
         for (size_t p = text.find("<path ", at); p != std::string::npos && p < text.find("</g>", at);

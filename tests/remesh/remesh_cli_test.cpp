@@ -75,6 +75,7 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --adaptive-scale 3", "--adaptive-scale"},
         {"remesh s.yaml -o out.obj --adaptive-scale -0.5", "--adaptive-scale"},
         {"remesh missing.off -o out.obj", "missing.off"},
+        {"remesh s.yaml -o out.obj --image out.gif", "--image"},
     };
     int k = 0;
     for (const Case &c : cases) {
@@ -83,6 +84,47 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
         EXPECT_FALSE(fs::exists(dir / "out.obj")) << c.args;
     }
+    EXPECT_EQ(slurp(dir / "s.yaml"), "mesh: {primitive: icosphere, subdivisions: 2}\n");
+}
+
+// --image: a picture of the remeshed surface beside the mesh, raster or SVG pen layers.
+TEST(RemeshCli, ImageOfTheRemeshedSurface) {
+    const fs::path dir = workDir("image");
+    std::ofstream(dir / "c.yaml") << "mesh: {primitive: rounded_cube_pair}\n"
+                                      "camera: {auto: true, direction: [0.6, 0.5, 1.0], resolution: [320, 240]}\n";
+    const CliRun a = runRosyhatch(dir, "remesh c.yaml -o c.obj --edge 5% --image c.png --timings t.json --quiet", "img1");
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    const std::string png = slurp(dir / "c.png");
+    ASSERT_GT(png.size(), 1000u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    // PNG header: width and height big-endian at bytes 16..23, the scene camera's size.
+    auto be32 = [&](size_t o) {
+        return (unsigned(uint8_t(png[o])) << 24) | (unsigned(uint8_t(png[o + 1])) << 16) |
+               (unsigned(uint8_t(png[o + 2])) << 8) | unsigned(uint8_t(png[o + 3]));
+    };
+    EXPECT_EQ(be32(16), 320u);
+    EXPECT_EQ(be32(20), 240u);
+    EXPECT_NE(slurp(dir / "t.json").find("\"image\""), std::string::npos);
+    const CliRun b = runRosyhatch(dir, "remesh c.yaml -o c.obj --edge 5% --image c.svg --quiet", "img2");
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const std::string svg = slurp(dir / "c.svg");
+    EXPECT_NE(svg.find("<svg"), std::string::npos);
+    // Edges on the first pen layer (many paths), the rounded cubes' 16 singularities
+    // as rings on the second, irregular vertices (at least one per visible
+    // singularity) as dots on the third; each label names what its layer holds.
+    auto layerPaths = [&](const std::string &label) {
+        const size_t at = svg.find("inkscape:label=\"" + label + "\"");
+        if (at == std::string::npos) return -1;
+        int n = 0;
+        for (size_t p = svg.find("<path ", at); p != std::string::npos && p < svg.find("</g>", at);
+             p = svg.find("<path ", p + 1))
+            ++n;
+        return n;
+    };
+    EXPECT_GT(layerPaths("1 edges"), 20);
+    EXPECT_GE(layerPaths("2 field singularities"), 3);
+    EXPECT_LE(layerPaths("2 field singularities"), 16);
+    EXPECT_GE(layerPaths("3 irregular vertices"), layerPaths("2 field singularities"));
 }
 
 } // namespace

@@ -1,0 +1,166 @@
+/// \file mesh_picture.cpp
+/// Pictures of polygon meshes (mesh_picture.h): shaded fill, edges, tinted faces of
+/// the other kind, irregular vertices and singularity rings, as a FieldDrawing.
+
+#include "renderer/mesh_picture.h"
+
+#include "core/error.h"
+#include "field/mesh/mesh_io.h"
+#include "renderer/picture_common.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace rosy::renderer {
+namespace {
+
+/// A closed circle of radius r around `centre` as one stroke (48 segments).
+Stroke ring(const Vec2 &centre, double r, double widthPx, uint32_t id) {
+    Stroke s;
+    const int n = 48;
+    for (int k = 0; k <= n; ++k) {
+        const double a = 2.0 * M_PI * k / n;
+        s.points.push_back(centre + r * Vec2(std::cos(a), std::sin(a)));
+    }
+    s.widths.assign(s.points.size(), float(widthPx));
+    s.id = id;
+    return s;
+}
+
+} // namespace
+
+FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vector<std::vector<int>> &polygons,
+                             const std::vector<Vec3> &singularityPositions, const Camera &camera,
+                             const MeshPictureOptions &options) {
+    const int nV = int(positions.size());
+    for (size_t p = 0; p < polygons.size(); ++p) {
+        if (polygons[p].size() < 3)
+            throw std::invalid_argument("drawMeshPicture: polygon " + std::to_string(p) + " has fewer than 3 vertices");
+        for (int v : polygons[p])
+            if (v < 0 || v >= nV)
+                throw std::invalid_argument("drawMeshPicture: polygon " + std::to_string(p) + " names vertex " +
+                                            std::to_string(v) + " of " + std::to_string(nV));
+    }
+
+    // The used vertices, renumbered (the triangle mesh may not have isolated ones),
+    // then a fan around each polygon's centroid: new edges only towards the new
+    // centre, so a manifold polygon mesh gives a manifold triangle mesh, and every
+    // polygon edge is a triangle edge (lines lie exactly on the shaded surface).
+    std::vector<int> newIndex(size_t(nV), -1);
+    std::vector<Vec3> points;
+    for (const std::vector<int> &poly : polygons)
+        for (int v : poly)
+            if (newIndex[size_t(v)] < 0) {
+                newIndex[size_t(v)] = int(points.size());
+                points.push_back(positions[size_t(v)]);
+            }
+    std::vector<field::Face> tris;
+    std::vector<int> polygonOf;
+    for (size_t p = 0; p < polygons.size(); ++p) {
+        const std::vector<int> &poly = polygons[p];
+        Vec3 c = Vec3::Zero();
+        for (int v : poly) c += positions[size_t(v)];
+        const int centre = int(points.size());
+        points.push_back(c / double(poly.size()));
+        for (size_t i = 0; i < poly.size(); ++i) {
+            tris.push_back({centre, newIndex[size_t(poly[i])], newIndex[size_t(poly[(i + 1) % poly.size()])]});
+            polygonOf.push_back(int(p));
+        }
+    }
+    field::Mesh surface;
+    bool faceMapValid = true;
+    try {
+        surface = field::Mesh::fromTriangles(points, tris, "remeshed surface");
+    } catch (const InputError &) {
+        // Not clean (e.g. a vertex with two fans): the loaders' repairs, which may
+        // reorder faces, so faces of the other kind are not tinted.
+        std::vector<std::vector<int>> soup(tris.size());
+        for (size_t t = 0; t < tris.size(); ++t) soup[t] = {tris[t][0], tris[t][1], tris[t][2]};
+        surface = field::repairAndBuild(points, soup, "remeshed surface");
+        faceMapValid = false;
+    }
+
+    const int width = camera.width(), height = camera.height();
+    ShadedFill shaded = shadedFill(surface, camera, options.lights);
+    FieldDrawing drawing;
+    drawing.width = width;
+    drawing.height = height;
+    drawing.fill = std::move(shaded.fill);
+    if (surface.nFaces() == 0) return drawing;
+    const GBuffer &gbuffer = shaded.gbuffer;
+
+    // Faces of the other kind, tinted (multiplied, so the shading still reads).
+    if (faceMapValid)
+        for (size_t i = 0; i < gbuffer.nPixels(); ++i) {
+            const int f = gbuffer.faceId[i];
+            if (f < 0 || int(polygons[size_t(polygonOf[size_t(f)])].size()) == options.regularSides) continue;
+            for (int c = 0; c < 3; ++c) drawing.fill.data[3 * i + size_t(c)] *= float(options.otherFaceTint[c]);
+        }
+
+    // Undirected edges with the number of polygons on each; valence and boundary per vertex.
+    std::vector<std::pair<int, int>> halfEdges;
+    for (const std::vector<int> &poly : polygons)
+        for (size_t i = 0; i < poly.size(); ++i) {
+            const int a = poly[i], b = poly[(i + 1) % poly.size()];
+            halfEdges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    std::sort(halfEdges.begin(), halfEdges.end());
+    std::vector<int> valence(size_t(nV), 0);
+    std::vector<char> onBoundary(size_t(nV), 0);
+    std::vector<std::pair<int, int>> edges;
+    for (size_t i = 0; i < halfEdges.size();) {
+        size_t j = i;
+        while (j < halfEdges.size() && halfEdges[j] == halfEdges[i]) ++j;
+        const auto [a, b] = halfEdges[i];
+        edges.emplace_back(a, b);
+        ++valence[size_t(a)];
+        ++valence[size_t(b)];
+        if (j - i == 1) onBoundary[size_t(a)] = onBoundary[size_t(b)] = 1;
+        i = j;
+    }
+
+    const double sizeScale = std::min(width, height) / 1024.0;
+    const Visibility vis(gbuffer, camera, shaded.diagonal);
+    auto ink = [&](std::string name, const styles::Rgb &colour, StrokeKind kind, int family,
+                   std::vector<Stroke> strokes) {
+        for (Stroke &s : strokes) {
+            s.kind = kind;
+            s.family = family;
+        }
+        drawing.inks.push_back(FieldInk{std::move(name), colour, 1.0, true, StrokeList{width, height, std::move(strokes)}});
+    };
+
+    std::vector<Stroke> edgeStrokes;
+    for (const auto &[a, b] : edges)
+        addVisibleStrokes(edgeStrokes, {positions[size_t(a)], positions[size_t(b)]}, camera, vis,
+                          options.edgeWidthPx * sizeScale);
+    ink("edges", options.edgeColor, StrokeKind::Hatch, 0, std::move(edgeStrokes));
+    drawing.inks.back().minRasterWidthPx = 0.8;
+
+    std::vector<Stroke> rings;
+    for (const Vec3 &p : singularityPositions)
+        if (vis.visible(p, 1.5))
+            rings.push_back(ring(camera.project(p), options.ringRadiusPx * sizeScale, options.ringWidthPx * sizeScale,
+                                 uint32_t(rings.size())));
+    ink("field singularities", options.ringColor, StrokeKind::Hatch, 1, std::move(rings));
+
+    const int regularValence = options.regularSides == 3 ? 6 : 4;
+    std::vector<Stroke> low, high, degenerate;
+    for (int v = 0; v < nV; ++v) {
+        if (valence[size_t(v)] == 0 || onBoundary[size_t(v)] || valence[size_t(v)] == regularValence) continue;
+        if (!vis.visible(positions[size_t(v)], 1.5)) continue;
+        std::vector<Stroke> &group =
+            valence[size_t(v)] <= 2 ? degenerate : (valence[size_t(v)] < regularValence ? low : high);
+        group.push_back(dot(camera.project(positions[size_t(v)]), options.dotRadiusPx * sizeScale,
+                            uint32_t(group.size())));
+    }
+    ink("low-valence vertices", options.lowValenceColor, StrokeKind::Contour, -1, std::move(low));
+    ink("high-valence vertices", options.highValenceColor, StrokeKind::Contour, -1, std::move(high));
+    ink("valence-2 vertices", styles::Rgb{0, 0, 0}, StrokeKind::Contour, -1, std::move(degenerate));
+    return drawing;
+}
+
+} // namespace rosy::renderer
