@@ -43,8 +43,6 @@ constexpr double kFillClearance = 0.7;
 /// The hole-filling pass keeps strokes from two d_sep on: a finger or a fold in
 /// shadow has no room for longer ones, and left empty it reads as a light patch.
 constexpr double kFillMinLengthRatio = 2.0;
-/// The hole-filling pass scans seeds this fraction of minSpacingPx apart.
-constexpr double kFillStrideRatio = 0.5;
 /// Range of tone (target density) over which the ends of each family's strokes are
 /// staggered, centred on its threshold (highlightDensity, crossDensity); the second
 /// family's reaches half of it below crossDensity, where the first family's tone
@@ -450,17 +448,13 @@ public:
     /// dark region such a wedge reads as a light crack. Any point of cross tone with no
     /// line of either family within kFillClearance d_sep is seeded along both screen
     /// directions with that clearance (lines still keep d_test from their neighbours).
-    /// The scan is kFillStrideRatio × minSpacingPx fine, so that holes about 1.4 d_sep
-    /// wide are found at all. A hole line seeds no neighbours: propagating from it would
-    /// hatch its direction at the first family's spacing, and where that direction is
-    /// the cross direction that is a dark rectangle (fandisk's curved face).
     void fillHoles() {
         m_family = 0;
         m_firstFamilyOnly = false;
         m_seedClearance = kFillClearance;
         m_minLengthRatio = kFillMinLengthRatio;
         m_filling = true;
-        const double stride = std::max(1.0, kFillStrideRatio * m_style.minSpacingPx);
+        const double stride = std::max(1.0, m_style.minSpacingPx);
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
                 const Vec2 q(x, y);
@@ -476,7 +470,7 @@ public:
                 const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
                 Vec2 h(d0.x(), d0.y());
                 if (m_rotated) h = rotate(h, m_offCos, m_offSin);
-                if (trySeed(q, h) || trySeed(q, Vec2(-h.y(), h.x()))) m_next = m_strokes.size();
+                if (trySeed(q, h) || trySeed(q, Vec2(-h.y(), h.x()))) propagate();
             }
         m_seedClearance = kSeedClearance;
         m_minLengthRatio = kStubLengthRatio;
