@@ -177,7 +177,9 @@ double TangentFrames::angleOfTangent(int v, const Vec3 &d) const {
     if (t.squaredNorm() == 0 || m_mesh->degree(v) == 0) return 0.0;
     Vec3 e1, e2;
     tangentBasis(v, e1, e2);
-    std::vector<double> phi, psi;
+    // Per-thread knot buffers: these run per vertex in parallel loops (field export,
+    // the studio's directions), where two allocations a call were most of the cost.
+    static thread_local std::vector<double> phi, psi;
     knots(v, phi, psi);
     return interpolateKnots(psi, phi, wrap2Pi(std::atan2(t.dot(e2), t.dot(e1))));
 }
@@ -186,7 +188,7 @@ Vec3 TangentFrames::tangentOfAngle(int v, double phiRad) const {
     Vec3 e1, e2;
     tangentBasis(v, e1, e2);
     if (m_mesh->degree(v) == 0) return e1;
-    std::vector<double> phi, psi;
+    static thread_local std::vector<double> phi, psi; // as in angleOfTangent()
     knots(v, phi, psi);
     double p = interpolateKnots(phi, psi, wrap2Pi(phiRad));
     return std::cos(p) * e1 + std::sin(p) * e2;
