@@ -47,10 +47,7 @@ FieldDrawing drawFieldPicture(const field::Mesh &mesh, const field::TangentFrame
                               const FieldPictureOptions &options) {
     const int width = camera.width(), height = camera.height();
     ShadedFill shaded = shadedFill(mesh, camera, options.lights);
-    FieldDrawing drawing;
-    drawing.width = width;
-    drawing.height = height;
-    drawing.fill = std::move(shaded.fill);
+    FieldDrawing drawing = std::move(shaded.drawing);
     if (mesh.nFaces() == 0) return drawing;
     const GBuffer &gbuffer = shaded.gbuffer;
     const double diagonal = shaded.diagonal;

@@ -85,10 +85,7 @@ FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vect
 
     const int width = camera.width(), height = camera.height();
     ShadedFill shaded = shadedFill(surface, camera, options.lights);
-    FieldDrawing drawing;
-    drawing.width = width;
-    drawing.height = height;
-    drawing.fill = std::move(shaded.fill);
+    FieldDrawing drawing = std::move(shaded.drawing);
     if (surface.nFaces() == 0) return drawing;
     const GBuffer &gbuffer = shaded.gbuffer;
 

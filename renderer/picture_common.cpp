@@ -80,8 +80,10 @@ Stroke dot(const Vec2 &centre, double r, uint32_t id) {
 
 ShadedFill shadedFill(const field::Mesh &mesh, const Camera &camera, const std::vector<Light> &lights) {
     ShadedFill out;
-    out.fill = Image(camera.width(), camera.height(), {"R", "G", "B"});
-    std::fill(out.fill.data.begin(), out.fill.data.end(), 1.0f);
+    out.drawing.width = camera.width();
+    out.drawing.height = camera.height();
+    out.drawing.fill = Image(camera.width(), camera.height(), {"R", "G", "B"});
+    std::fill(out.drawing.fill.data.begin(), out.drawing.fill.data.end(), 1.0f);
     if (mesh.nFaces() == 0) return out;
     Vec3 lo = mesh.position(0), hi = lo;
     for (int v = 0; v < mesh.nVertices(); ++v) {
@@ -106,7 +108,7 @@ ShadedFill shadedFill(const field::Mesh &mesh, const Camera &camera, const std::
     const std::vector<double> tone = shadeLambert(out.gbuffer, scene, mesh, camera, used, shading);
 
     // Light grey surface: the lines carry the information, the tone only the form.
-    std::vector<float> &rgb = out.fill.data;
+    std::vector<float> &rgb = out.drawing.fill.data;
     for (size_t i = 0; i < out.gbuffer.nPixels(); ++i) {
         if (out.gbuffer.faceId[i] < 0) continue;
         const float g = float(0.3 + 0.6 * tone[i]);

@@ -5,6 +5,7 @@
 /// of whether a world point is seen, visible parts of world polylines as strokes,
 /// and dots. Internal to rosy::renderer.
 
+#include "renderer/field_picture.h"
 #include "renderer/output/image.h"
 #include "renderer/output/strokes.h"
 #include "renderer/view/camera.h"
@@ -44,12 +45,13 @@ void addVisibleStrokes(std::vector<Stroke> &out, const std::vector<Vec3> &points
 /// A filled dot of radius r: a stroke of two equal points (a round cap), width 2r.
 Stroke dot(const Vec2 &centre, double r, uint32_t id);
 
-/// The G-buffer of `mesh` seen by `camera` and the light grey picture fill: RGB
-/// (linear) 0.3 + 0.6 × Lambert tone on the surface (ambient 0.2, no shadows), white
-/// elsewhere. Empty `lights`: one headlight a little above and left of the eye.
+/// The G-buffer of `mesh` seen by `camera` and a drawing of the camera's size without
+/// inks whose fill is the light grey picture: RGB (linear) 0.3 + 0.6 × Lambert tone
+/// on the surface (ambient 0.2, no shadows), white elsewhere. Empty `lights`: one
+/// headlight a little above and left of the eye.
 struct ShadedFill {
     GBuffer gbuffer;
-    Image fill;
+    FieldDrawing drawing;
     double diagonal = 1; ///< the mesh's bounding-box diagonal (at least 1e-12)
 };
 ShadedFill shadedFill(const field::Mesh &mesh, const Camera &camera, const std::vector<Light> &lights);

@@ -23,6 +23,7 @@ fs::path workDir() { return rosy::test::testOutputDir("cli"); }
 
 using rosy::test::CliRun;
 using rosy::test::slurp;
+using rosy::test::svgLayerPaths;
 
 /// Runs rosyhatch with `args` (already shell-quoted) from the work folder.
 CliRun run(const std::string &args, const std::string &tag) { return rosy::test::runRosyhatch(workDir(), args, tag); }
@@ -239,14 +240,7 @@ TEST(RenderCli, FieldPictureAsSvgBesideItsPng) {
     EXPECT_EQ(slurp(workDir() / "rf.png"), slurp(workDir() / "rf-alone.png"));
     const std::string svg = slurp(workDir() / "rf.svg");
     ASSERT_EQ(svg.rfind("<?xml", 0), 0u) << svg.substr(0, 200);
-    auto layerPaths = [&](const std::string &label) {
-        const size_t at = svg.find("inkscape:label=\"" + label + "\"");
-        if (at == std::string::npos) return -1;
-        int n = 0;
-        const size_t end = svg.find("</g>", at);
-        for (size_t p = svg.find("<path ", at); p != std::string::npos && p < end; p = svg.find("<path ", p + 1)) ++n;
-        return n;
-    };
+    auto layerPaths = [&](const std::string &label) { return svgLayerPaths(svg, label); };
     EXPECT_GT(layerPaths("1 streamlines"), 10);
     EXPECT_GE(layerPaths("2 separatrices"), 1);
     EXPECT_EQ(layerPaths("3 singularities"), 1); // the one singularity's dot
@@ -277,11 +271,7 @@ TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
     EXPECT_EQ(count("<path "), count("\"/>"));
     // Paths per layer: streamlines, separatrices (N + 1 = 5 from the -1/4 singularity,
     // merged where they meet), and exactly one dot for the one singularity.
-    auto layerPaths = [&](const std::string &label) {
-        const size_t at = svg.find("inkscape:label=\"" + label + "\"");
-        if (at == std::string::npos) return -1;
-        return count("<path ", at, svg.find("</g>", at));
-    };
+    auto layerPaths = [&](const std::string &label) { return svgLayerPaths(svg, label); };
     EXPECT_GT(layerPaths("1 streamlines"), 10);
     EXPECT_GE(layerPaths("2 separatrices"), 1);
     EXPECT_EQ(layerPaths("3 singularities"), 1);
@@ -296,16 +286,7 @@ TEST(FieldCli, ImageAsSvgWritesPenLayersWithPaths) {
     CliRun both = run("field '" + edit.string() + "' --image-before before.svg --image after.svg --quiet",
                       "field-svg-before");
     ASSERT_EQ(both.exitCode, 0) << both.err;
-    auto dots = [&](const std::string &file) {
-        const std::string text = slurp(workDir() / file);
-        const size_t at = text.find("inkscape:label=\"3 singularities\"");
-        if (at == std::string::npos) return -1;
-        int n = 0;
-        for (size_t p = text.find("<path ", at); p != std::string::npos && p < text.find("</g>", at);
-             p = text.find("<path ", p + 1))
-            ++n;
-        return n;
-    };
+    auto dots = [&](const std::string &file) { return svgLayerPaths(slurp(workDir() / file), "3 singularities"); };
     EXPECT_EQ(dots("before.svg"), 2);
     EXPECT_EQ(dots("after.svg"), 0);
 

@@ -34,6 +34,17 @@ inline std::string slurp(const std::filesystem::path &p) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// Number of <path> elements in the SVG layer labelled `label` (inkscape:label),
+/// or -1 when the document has no such layer.
+inline int svgLayerPaths(const std::string &svg, const std::string &label) {
+    const size_t at = svg.find("inkscape:label=\"" + label + "\"");
+    if (at == std::string::npos) return -1;
+    const size_t end = svg.find("</g>", at);
+    int n = 0;
+    for (size_t p = svg.find("<path ", at); p != std::string::npos && p < end; p = svg.find("<path ", p + 1)) ++n;
+    return n;
+}
+
 /// Exit code (-1 if killed by a signal) and both output streams of one run.
 struct CliRun {
     int exitCode;

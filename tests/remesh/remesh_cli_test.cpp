@@ -112,15 +112,7 @@ TEST(RemeshCli, ImageOfTheRemeshedSurface) {
     // Edges on the first pen layer (many paths), the rounded cubes' 16 singularities
     // as rings on the second, irregular vertices (at least one per visible
     // singularity) as dots on the third; each label names what its layer holds.
-    auto layerPaths = [&](const std::string &label) {
-        const size_t at = svg.find("inkscape:label=\"" + label + "\"");
-        if (at == std::string::npos) return -1;
-        int n = 0;
-        for (size_t p = svg.find("<path ", at); p != std::string::npos && p < svg.find("</g>", at);
-             p = svg.find("<path ", p + 1))
-            ++n;
-        return n;
-    };
+    auto layerPaths = [&](const std::string &label) { return svgLayerPaths(svg, label); };
     EXPECT_GT(layerPaths("1 edges"), 20);
     EXPECT_GE(layerPaths("2 field singularities"), 3);
     EXPECT_LE(layerPaths("2 field singularities"), 16);
