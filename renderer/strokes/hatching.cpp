@@ -48,6 +48,11 @@ constexpr double kFillMinLengthRatio = 2.0;
 /// family's reaches half of it below crossDensity, where the first family's tone
 /// rule still applies (its lines never cross there).
 constexpr double kEndStagger[2] = {0.04, 0.08};
+/// Which pass a stroke is traced in, passed down from the seed to the length rule:
+/// Jobard–Lefer's passes of each family, or the hole pass (Hatcher::fillHoles),
+/// whose seeds accept less room (kFillClearance) and whose strokes may be shorter
+/// (kFillMinLengthRatio, the style's minLengthPx held only up to the stub length).
+enum class Pass { Lines, Holes };
 /// Tapered ends keep this fraction of the width, so a stroke does not end in nothing.
 constexpr double kTaperFloor = 0.2;
 /// Longest taper at each end of a stroke, in stroke widths.
@@ -439,7 +444,7 @@ public:
                 if (!eligible(q)) continue;
                 Vec2 heading;
                 if (!scanHeading(q, heading)) continue;
-                if (trySeed(q, heading)) propagate();
+                if (trySeed(q, heading, Pass::Lines)) propagate(Pass::Lines);
             }
     }
 
@@ -451,9 +456,6 @@ public:
     void fillHoles() {
         m_family = 0;
         m_firstFamilyOnly = false;
-        m_seedClearance = kFillClearance;
-        m_minLengthRatio = kFillMinLengthRatio;
-        m_filling = true;
         const double stride = std::max(1.0, m_style.minSpacingPx);
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
@@ -470,11 +472,9 @@ public:
                 const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
                 Vec2 h(d0.x(), d0.y());
                 if (m_rotated) h = rotate(h, m_offCos, m_offSin);
-                if (trySeed(q, h) || trySeed(q, Vec2(-h.y(), h.x()))) propagate();
+                if (trySeed(q, h, Pass::Holes) || trySeed(q, Vec2(-h.y(), h.x()), Pass::Holes))
+                    propagate(Pass::Holes);
             }
-        m_seedClearance = kSeedClearance;
-        m_minLengthRatio = kStubLengthRatio;
-        m_filling = false;
     }
 
     /// Layers by direction. In cross tone a first-family line may cross first-family
@@ -652,13 +652,13 @@ private:
         return true;
     }
 
-    bool trySeed(const Vec2 &q, const Vec2 &heading) {
+    bool trySeed(const Vec2 &q, const Vec2 &heading, Pass pass) {
         drawThreshold();
         if (!eligible(q)) return false;
         const int i = pixelIndex(q);
         // Slightly under d_sep: a seed placed at exactly d_sep from its parent must not
         // be rejected by its own parent through rounding.
-        const double clearance = m_seedClearance * spacingAt(i);
+        const double clearance = (pass == Pass::Holes ? kFillClearance : kSeedClearance) * spacingAt(i);
         const bool single = singleTone(i);
         // While only first-family lines exist, single tone blocks on every line near
         // whatever the seed's direction: test that before the field lookup, which most
@@ -668,12 +668,12 @@ private:
         Vec2 dir;
         if (!direction(q, heading, dir)) return false;
         if (!directionFree && seedTooClose(q, dir, clearance, single)) return false;
-        return traceStroke(q, dir);
+        return traceStroke(q, dir, pass);
     }
 
     /// Jobard–Lefer propagation: seeds at ±d_sep beside each accepted line, lines in
     /// creation order (FIFO), until no candidate is left.
-    void propagate() {
+    void propagate(Pass pass) {
         while (m_next < m_strokes.size()) {
             const size_t parent = m_next++;
             const std::vector<Vec2> pts = m_strokes[parent].points; // copy: m_strokes grows
@@ -694,7 +694,7 @@ private:
                         const double dq = spacingAt(iq);
                         if (dq > dist) q = pts[k] + side * dq * nrm;
                     }
-                    trySeed(q, tans[k]);
+                    trySeed(q, tans[k], pass);
                 }
             }
         }
@@ -729,7 +729,7 @@ private:
         }
     }
 
-    bool traceStroke(const Vec2 &seed, const Vec2 &dir) {
+    bool traceStroke(const Vec2 &seed, const Vec2 &dir, Pass pass) {
         const int id = int(m_strokes.size());
         const size_t before = m_grid.size();
         Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
@@ -749,9 +749,9 @@ private:
         // length: a style asking for long lines (engraving: 40 px) would otherwise
         // leave every small dark part (an eye socket, a fold of the mouth) white.
         const double meanDSep = meanDTest / kTestRatio;
-        const double styleFloor =
-            m_filling ? std::min(m_style.minLengthPx, kStubLengthRatio * meanDSep) : m_style.minLengthPx;
-        const double minLength = std::max(styleFloor, m_minLengthRatio * meanDSep);
+        const bool holes = pass == Pass::Holes;
+        const double styleFloor = holes ? std::min(m_style.minLengthPx, kStubLengthRatio * meanDSep) : m_style.minLengthPx;
+        const double minLength = std::max(styleFloor, (holes ? kFillMinLengthRatio : kStubLengthRatio) * meanDSep);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.size() > before) m_grid.popBack();
             m_nBlockers = 0; // they may have been among the removed samples
@@ -871,14 +871,11 @@ private:
     bool m_firstFamilyOnly = true; // no line of the second family traced yet
     Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)
     int m_nBlockers = 0;
-    double m_seedClearance = kSeedClearance;
-    double m_minLengthRatio = kStubLengthRatio; // shortest stroke kept, in d_sep
     double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
     uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
     std::vector<Stroke> m_strokes;
     std::vector<std::vector<Vec2>> m_tangents;
     size_t m_next = 0;
-    bool m_filling = false; // inside fillHoles()
 };
 
 /// Width profile and optional wobble of one stroke; randomness from (seed, id) only.
