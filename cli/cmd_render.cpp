@@ -242,6 +242,7 @@ void runRender(const RenderOptions &opt) {
         json.field("stub_fraction", il.hatch.stubFraction);
         json.field("cross_overdense_fraction", il.hatch.crossOverdenseFraction);
         json.field("squeezed_fraction", il.hatch.squeezedFraction);
+        json.field("incoherent_fraction", il.hatch.incoherentFraction);
         json.field("singularities", int(result.field.singularities.singularities.size()));
         json.field("symmetry", result.field.field.field.nSym);
         if (svgReport) {

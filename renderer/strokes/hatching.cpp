@@ -13,6 +13,10 @@ namespace rosy::renderer {
 namespace {
 
 constexpr double kCos45 = 0.70710678118654752;
+/// Band of angles between two lines of one layer, within one d_sep of each other,
+/// that HatchReport::incoherentFraction counts: cos 20° and cos 50°.
+constexpr double kIncoherentCosHi = 0.93969262078590838;
+constexpr double kIncoherentCosLo = 0.64278760968653933;
 /// The tracer treats lines within 55° as the same family, a margin over the 45° the
 /// measurement uses: a sample's tangent is its incoming step while the measurement
 /// takes central chords, which differ by up to half a step's turn (6°), and a line
@@ -1063,7 +1067,7 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
     std::vector<std::vector<int>> partners(hatch.size());
     std::vector<uint8_t> nearSing(hatch.size(), 0);
     std::vector<double> crossLength(hatch.size(), 0.0), overdenseLength(hatch.size(), 0.0),
-        squeezedLength(hatch.size(), 0.0);
+        squeezedLength(hatch.size(), 0.0), incoherentLength(hatch.size(), 0.0);
     std::vector<uint8_t> isStub(hatch.size(), 0);
     parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
         const int k = hatch[size_t(h)];
@@ -1108,6 +1112,30 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
                         }
             }
             if (overdense) overdenseLength[size_t(h)] += weight;
+            // Incoherent directions: a line of the same layer within one d_sep runs at
+            // 20°–50° to this one. Neighbours of one family follow the field's smooth
+            // turn and differ by a few degrees over a spacing; lines of one direction
+            // never cross (the tracer keeps 55° apart lines at d_test), and crossings
+            // of two fronts (55° and more) are cross_overdense_fraction's.
+            bool incoherent = false;
+            {
+                auto [x0, x1] = cellRange(pts[i].x() - dSep, pts[i].x() + dSep, nx);
+                auto [y0, y1] = cellRange(pts[i].y() - dSep, pts[i].y() + dSep, ny);
+                for (int cy = y0; cy <= y1 && !incoherent; ++cy)
+                    for (int cx = x0; cx <= x1 && !incoherent; ++cx)
+                        for (const auto &[kb, j] : cells[size_t(cy) * size_t(nx) + size_t(cx)]) {
+                            if (kb == k) continue;
+                            const Stroke &b = list.strokes[size_t(kb)];
+                            if (b.family != a.family) continue;
+                            const Vec2 &b0 = b.points[size_t(j)], &b1 = b.points[size_t(j) + 1];
+                            const double c = std::abs(ta.dot((b1 - b0).normalized()));
+                            if (c <= kIncoherentCosLo || c >= kIncoherentCosHi) continue;
+                            if (pointSegmentDistance(pts[i], b0, b1) >= dSep) continue;
+                            incoherent = true;
+                            break;
+                        }
+            }
+            if (incoherent) incoherentLength[size_t(h)] += weight;
             // Squeezed runs: stretches of at least one local d_sep along which a line of
             // the same direction (within 45°, any layer) lies on each side closer than
             // kSqueezeRatio d_sep: two fronts interleaved at half the spacing.
@@ -1151,14 +1179,16 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
         r.stubs += isStub[h];
     }
     r.stubFraction = double(r.stubs) / double(hatch.size());
-    double cross = 0.0, over = 0.0, squeezed = 0.0;
+    double cross = 0.0, over = 0.0, squeezed = 0.0, incoherent = 0.0;
     for (size_t h = 0; h < hatch.size(); ++h) {
         cross += crossLength[h];
         over += overdenseLength[h];
         squeezed += squeezedLength[h];
+        incoherent += incoherentLength[h];
     }
     r.crossOverdenseFraction = cross > 0.0 ? over / cross : 0.0;
     r.squeezedFraction = r.inkLengthPx > 0.0 ? squeezed / r.inkLengthPx : 0.0;
+    r.incoherentFraction = r.inkLengthPx > 0.0 ? incoherent / r.inkLengthPx : 0.0;
     std::sort(pairs.begin(), pairs.end());
     r.minSpacingViolations = int(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
     return r;

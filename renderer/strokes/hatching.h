@@ -66,6 +66,12 @@ struct HatchReport {
     /// through each other at half the spacing make such runs: a patch of double
     /// density with straight edges.
     double squeezedFraction = 0.0;
+    /// Share of the hatch ink length along which a line of the same layer within one
+    /// local d_sep runs at 20°–50° to it: strokes that disagree in direction with
+    /// their neighbours of one family (a fold of the screen field seeding short lines
+    /// at an angle across the regular hatching, kinks where lines of two directions
+    /// meet end to end). Regular hatching scores 0.
+    double incoherentFraction = 0.0;
 };
 
 /// A hatch stroke shorter than this many local spacings reads as a dash, not a line.
@@ -159,7 +165,8 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
 /// (1 − tolerance) d_test at that vertex; `tolerance` absorbs the chord error of
 /// polylines sampled at 0.2 d_sep), strokes whose segments enter a disc of radius
 /// (1 − tolerance) d_sep around a visible singularity of `field`, stubs, and the
-/// second family's ink laid closer than its own d_test (crossOverdenseFraction). d_sep
+/// second family's ink laid closer than its own d_test (crossOverdenseFraction),
+/// squeezed runs (squeezedFraction) and incoherent directions (incoherentFraction). d_sep
 /// here is the first family's (localSpacingPx with crossWeight), the densest
 /// spacing the tone asks for, whichever layer a stroke ended up in.
 /// Only strokes of kind Hatch are looked at.

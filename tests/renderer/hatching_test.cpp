@@ -425,6 +425,54 @@ TEST(Hatching, SqueezedRunsAreInterleavedFronts) {
     EXPECT_LE(r.squeezedFraction, 206.0 / 520.0 + 1e-9);
 }
 
+TEST(Hatching, IncoherentDirectionsAreLinesOfOneLayerAtAnAngle) {
+    // Regular hatching at d_sep = 6 px scores 0, and so do a line of the other layer
+    // crossing it at 90°, a slow fan (5° between neighbours) and a line of the same
+    // layer crossing at 60° (two fronts, outside the 20°–50° band). A short line of
+    // the same layer at 30° (a fold of the field seeding across the hatching) counts
+    // over its whole length (every point of it is within 3 px of a horizontal line)
+    // and the horizontal lines count where they pass within d_sep of it.
+    Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 1.8, 128, 128);
+    Scene s(field::makeGrid(4), cam);
+    s.field = constantField(*s.frames, 2);
+    s.render();
+    styles::HatchStyle st;
+    const float density = 0.3f;
+    ASSERT_NEAR(familySpacingPx(density, 0, st), 6.0, 1e-6);
+    StrokeList list;
+    list.width = list.height = 128;
+    auto add = [&](Vec2 from, double angleDeg, double length, int family) {
+        Stroke stroke;
+        stroke.kind = StrokeKind::Hatch;
+        stroke.family = family;
+        stroke.id = uint32_t(list.strokes.size());
+        const Vec2 d(std::cos(angleDeg * M_PI / 180.0), std::sin(angleDeg * M_PI / 180.0));
+        for (double t = 0; t <= length + 1e-9; t += 1.0) stroke.points.push_back(from + t * d);
+        stroke.widths.assign(stroke.points.size(), 1.8f);
+        list.strokes.push_back(stroke);
+    };
+    auto incoherent = [&] { return measureHatches(list, s.screen, s.uniformDensity(density), st).incoherentFraction; };
+    for (double y : {30.0, 36.0, 42.0, 48.0}) add(Vec2(20, y), 0.0, 100.0, 0);
+    EXPECT_EQ(incoherent(), 0.0);
+    add(Vec2(70, 20), 90.0, 40.0, 1);
+    EXPECT_EQ(incoherent(), 0.0);
+    list.strokes.pop_back();
+    add(Vec2(40, 90), 0.0, 60.0, 0);
+    add(Vec2(40, 96), 5.0, 60.0, 0);
+    EXPECT_EQ(incoherent(), 0.0);
+    list.strokes.resize(4);
+    add(Vec2(60, 20), 60.0, 34.0, 0);
+    EXPECT_EQ(incoherent(), 0.0);
+    list.strokes.pop_back();
+    add(Vec2(60, 33), 30.0, 12.0, 0);
+    const double r = incoherent();
+    // 12 px of 412 at least; at most those 12 plus the parts of the lines at y = 30,
+    // 36, 42 within 6 px of the 12 px segment (its 10.4 px run along x and 6 px past
+    // each end: 22.4 px each).
+    EXPECT_GE(r, 12.0 / 412.0 - 1e-9);
+    EXPECT_LE(r, (12.0 + 3 * 22.4) / 412.0);
+}
+
 TEST(Hatching, TracedStrokesAreNoStubs) {
     // The tracer drops what the measure would call a stub: on a plane with a tone
     // ramp (so spacing changes along the way) no stroke is shorter than 4 d_sep.

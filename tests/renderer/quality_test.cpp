@@ -143,9 +143,11 @@ TEST_P(ExampleScene, MeetsTheThresholds) {
     EXPECT_LE(r.inkOutsideSilhouettePx, bounds.outsideBound);
     EXPECT_EQ(m.hatch.minSpacingViolations, 0);
     EXPECT_EQ(m.hatch.strokesNearSingularities, 0);
-    std::printf("%s: seam %.4f stub %.4f align %.2f/%.2f tone %.4f overdense %.4f squeezed %.4f strokes %d\n",
+    std::printf("%s: seam %.4f stub %.4f align %.2f/%.2f tone %.4f overdense %.4f squeezed %.4f incoherent %.4f "
+                "strokes %d\n",
                 GetParam().c_str(), r.seamFraction, m.hatch.stubFraction, r.alignmentMedianDeg, r.alignmentP90Deg,
-                r.toneMae, m.hatch.crossOverdenseFraction, m.hatch.squeezedFraction, m.hatch.strokes);
+                r.toneMae, m.hatch.crossOverdenseFraction, m.hatch.squeezedFraction, m.hatch.incoherentFraction,
+                m.hatch.strokes);
 }
 
 // The paper's claim behind Figure 1 (a)-(b), on the figures: hatching along the
