@@ -62,10 +62,16 @@ double boxDistance2(const Vec3 &p, const Vec3 &lo, const Vec3 &hi) {
 }
 } // namespace
 
-ClosestPoint AabbTree::closest(const Vec3 &p) const {
+ClosestPoint AabbTree::closest(const Vec3 &p, int hint) const {
     ClosestPoint best;
     best.distance2 = std::numeric_limits<double>::infinity();
     if (m_nodes.empty()) return best;
+    if (hint >= 0 && hint < int(m_tris.size())) {
+        const auto &f = m_tris[size_t(hint)];
+        best.point = closestPointOnTriangle(p, m_points[f[0]], m_points[f[1]], m_points[f[2]]);
+        best.distance2 = (best.point - p).squaredNorm();
+        best.triangle = hint;
+    }
     int stack[128];
     int top = 0;
     stack[top++] = 0;

@@ -31,7 +31,10 @@ public:
     explicit AabbTree(const field::Mesh &mesh);
 
     /// The closest point of all triangles to p (triangle -1 if there are none).
-    ClosestPoint closest(const Vec3 &p) const;
+    /// `hint`, a triangle likely to be near (the answer for a nearby query), only
+    /// tightens the search: the distance is the same with or without it (at an
+    /// exact tie between two triangles the point returned may be either's).
+    ClosestPoint closest(const Vec3 &p, int hint = -1) const;
     int nTriangles() const { return int(m_tris.size()); }
 
 private:

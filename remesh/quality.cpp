@@ -3,6 +3,8 @@
 
 #include "remesh/aabb_tree.h"
 
+#include "core/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -182,26 +184,34 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     q.angleDevNearSingMedianDeg = percentile(devNear, 0.5);
     q.angleDevNearSingP90Deg = percentile(devNear, 0.9);
 
-    // --- edge lengths and alignment with the field
+    // --- edge lengths and alignment with the field (each edge on its own in
+    // parallel, gathered in edge order: the same numbers for any thread count)
     const AabbTree input(mesh);
-    std::vector<double> lengths, align;
-    for (const auto &[key, use] : edges) {
+    std::vector<std::pair<int, int>> edgeList;
+    edgeList.reserve(edges.size());
+    for (const auto &[key, use] : edges) edgeList.push_back(key);
+    std::vector<double> lengths(edgeList.size()), edgeAlign(edgeList.size(), -1);
+    parallelFor(0, int64_t(edgeList.size()), [&](int64_t e) {
+        const auto &key = edgeList[size_t(e)];
         const Vec3 d = positions[key.second] - positions[key.first];
-        lengths.push_back(d.norm());
+        lengths[size_t(e)] = d.norm();
         const ClosestPoint c = input.closest(0.5 * (positions[key.first] + positions[key.second]));
-        if (c.triangle < 0) continue;
+        if (c.triangle < 0) return;
         // the field at the triangle corner nearest the edge's midpoint
         int v = mesh.face(c.triangle)[0];
         for (int x : mesh.face(c.triangle))
             if ((mesh.position(x) - c.point).squaredNorm() < (mesh.position(v) - c.point).squaredNorm()) v = x;
-        if (std::abs(field.u[v]) == 0) continue;
+        if (std::abs(field.u[v]) == 0) return;
         const Vec3 n = frames.normal(v);
         const Vec3 dt = d - n * n.dot(d);
         double best = 180;
         for (double a : field::memberAngles(field.u[v], field.nSym))
             best = std::min(best, angleDeg(dt, frames.tangentOfAngle(v, a)));
-        align.push_back(best);
-    }
+        edgeAlign[size_t(e)] = best;
+    });
+    std::vector<double> align;
+    for (double a : edgeAlign)
+        if (a >= 0) align.push_back(a);
     double sum = 0, sum2 = 0;
     for (double l : lengths) sum += l;
     q.edgeLengthMean = lengths.empty() ? 0 : sum / double(lengths.size());
@@ -216,46 +226,66 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     std::vector<std::array<int, 3>> tris; // polygons fanned from their first corner
     for (const auto &poly : polygons)
         for (size_t i = 1; i + 1 < poly.size(); ++i) tris.push_back({poly[0], poly[i], poly[i + 1]});
-    for (const auto &poly : polygons) {
+    std::vector<char> flipped(polygons.size(), 0);
+    parallelFor(0, int64_t(polygons.size()), [&](int64_t f) {
+        const auto &poly = polygons[size_t(f)];
         Vec3 c = Vec3::Zero(), newell = Vec3::Zero();
         for (size_t i = 0; i < poly.size(); ++i) {
             c += positions[poly[i]];
             newell += positions[poly[i]].cross(positions[poly[(i + 1) % poly.size()]]);
         }
         const ClosestPoint cp = input.closest(c / double(poly.size()));
-        if (cp.triangle >= 0 && newell.dot(mesh.faceNormal(cp.triangle)) < 0) q.flippedFaces++;
-    }
-    double maxOut = 0, sumOut = 0;
-    long long nOut = 0;
+        flipped[size_t(f)] = cp.triangle >= 0 && newell.dot(mesh.faceNormal(cp.triangle)) < 0;
+    });
+    for (char x : flipped) q.flippedFaces += x;
+    // Distances: every sample's in parallel (a sample's closest-point search starts
+    // from the triangle found for the previous sample of the same triangle or
+    // face), then max and sum in sample order as one sequential loop would.
     const double step = edgeLength / 3;
-    for (const auto &t : tris) {
-        const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+    std::vector<int> samplesOf(tris.size());
+    std::vector<size_t> firstSample(tris.size() + 1, 0);
+    for (size_t t = 0; t < tris.size(); ++t) {
+        const Vec3 &a = positions[tris[t][0]], &b = positions[tris[t][1]], &c = positions[tris[t][2]];
         const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-        const int k = std::clamp(int(std::ceil(longest / step)), 1, 64);
+        samplesOf[t] = std::clamp(int(std::ceil(longest / step)), 1, 64);
+        firstSample[t + 1] = firstSample[t] + size_t((samplesOf[t] + 1) * (samplesOf[t] + 2) / 2);
+    }
+    std::vector<double> outDist(firstSample.back());
+    parallelFor(0, int64_t(tris.size()), [&](int64_t t) {
+        const Vec3 &a = positions[tris[size_t(t)][0]], &b = positions[tris[size_t(t)][1]], &c = positions[tris[size_t(t)][2]];
+        const int k = samplesOf[size_t(t)];
+        size_t at = firstSample[size_t(t)];
+        int hint = -1;
         for (int i = 0; i <= k; ++i)
             for (int j = 0; i + j <= k; ++j) {
                 const Vec3 p = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
-                const double d = std::sqrt(input.closest(p).distance2);
-                maxOut = std::max(maxOut, d);
-                sumOut += d;
-                ++nOut;
+                const ClosestPoint cp = input.closest(p, hint);
+                hint = cp.triangle;
+                outDist[at++] = std::sqrt(cp.distance2);
             }
-    }
+    }, 16);
+    double maxOut = 0, sumOut = 0;
+    const long long nOut = (long long)outDist.size();
+    for (double d : outDist) maxOut = std::max(maxOut, d), sumOut += d;
     const AabbTree output(positions, tris);
     double maxIn = 0, sumIn = 0;
     long long nIn = 0;
-    auto sampleIn = [&](const Vec3 &p) {
-        const double d = std::sqrt(output.closest(p).distance2);
-        maxIn = std::max(maxIn, d);
-        sumIn += d;
-        ++nIn;
-    };
     if (output.nTriangles() > 0) {
-        for (const Vec3 &p : mesh.positions()) sampleIn(p);
-        for (int f = 0; f < mesh.nFaces(); ++f) {
-            const auto &fc = mesh.face(f);
-            sampleIn((mesh.position(fc[0]) + mesh.position(fc[1]) + mesh.position(fc[2])) / 3);
-        }
+        const int nV = mesh.nVertices(), nF = mesh.nFaces();
+        std::vector<double> vertexDist(static_cast<size_t>(nV)), faceDist(static_cast<size_t>(nF));
+        std::vector<int> vertexTri(static_cast<size_t>(nV));
+        parallelFor(0, nV, [&](int64_t v) {
+            const ClosestPoint cp = output.closest(mesh.position(int(v)));
+            vertexDist[size_t(v)] = std::sqrt(cp.distance2);
+            vertexTri[size_t(v)] = cp.triangle;
+        });
+        parallelFor(0, nF, [&](int64_t f) {
+            const auto &fc = mesh.face(int(f));
+            const Vec3 p = (mesh.position(fc[0]) + mesh.position(fc[1]) + mesh.position(fc[2])) / 3;
+            faceDist[size_t(f)] = std::sqrt(output.closest(p, vertexTri[size_t(fc[0])]).distance2);
+        });
+        for (double d : vertexDist) maxIn = std::max(maxIn, d), sumIn += d, ++nIn;
+        for (double d : faceDist) maxIn = std::max(maxIn, d), sumIn += d, ++nIn;
     }
     const double pct = q.diagonal > 0 ? 100.0 / q.diagonal : 0;
     q.distanceOutToInPct = maxOut * pct;

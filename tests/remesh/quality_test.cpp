@@ -40,6 +40,10 @@ TEST(AabbTree, ClosestPointMatchesDenseSampling) {
         EXPECT_LE(d, best + 1e-12);
         EXPECT_GE(d, best - 0.35 / k); // edges are about 0.3 long
         EXPECT_NEAR((c.point - p).norm(), d, 1e-12);
+        // A hint only tightens the search: the same distance from any starting
+        // triangle, near (the answer), far (the opposite side) or arbitrary.
+        for (int hint : {c.triangle, 0, mesh.nFaces() - 1, (trial * 37) % mesh.nFaces()})
+            EXPECT_EQ(tree.closest(p, hint).distance2, c.distance2) << "hint " << hint;
     }
 }
 

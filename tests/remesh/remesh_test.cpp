@@ -159,6 +159,16 @@ TEST(Remesh, SameOutputForAnyThreadCount) {
     ASSERT_EQ(runs[0].result.positions.size(), runs[1].result.positions.size());
     for (size_t i = 0; i < runs[0].result.positions.size(); ++i)
         ASSERT_EQ(runs[0].result.positions[i], runs[1].result.positions[i]) << i;
+    // The quality checks run their samples in parallel and gather them in order.
+    const QualityReport &a = runs[0].quality, &b = runs[1].quality;
+    EXPECT_EQ(a.distanceOutToInPct, b.distanceOutToInPct);
+    EXPECT_EQ(a.distanceInToOutPct, b.distanceInToOutPct);
+    EXPECT_EQ(a.distanceOutToInMeanPct, b.distanceOutToInMeanPct);
+    EXPECT_EQ(a.distanceInToOutMeanPct, b.distanceInToOutMeanPct);
+    EXPECT_EQ(a.alignmentMedianDeg, b.alignmentMedianDeg);
+    EXPECT_EQ(a.alignmentP90Deg, b.alignmentP90Deg);
+    EXPECT_EQ(a.edgeLengthCv, b.edgeLengthCv);
+    EXPECT_EQ(a.flippedFaces, b.flippedFaces);
 }
 
 TEST(Remesh, RejectsOtherSymmetriesAndBadLengths) {
