@@ -274,10 +274,15 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         const int nV = mesh.nVertices(), nF = mesh.nFaces();
         std::vector<double> vertexDist(static_cast<size_t>(nV)), faceDist(static_cast<size_t>(nF));
         std::vector<int> vertexTri(static_cast<size_t>(nV));
-        parallelFor(0, nV, [&](int64_t v) {
-            const ClosestPoint cp = output.closest(mesh.position(int(v)));
-            vertexDist[size_t(v)] = std::sqrt(cp.distance2);
-            vertexTri[size_t(v)] = cp.triangle;
+        // Vertices in fixed blocks, each search starting from the previous vertex's
+        // answer (neighbouring indices are mostly near; the distance does not depend on it).
+        parallelForRange(0, nV, [&](int64_t lo, int64_t hi) {
+            int hint = -1;
+            for (int64_t v = lo; v < hi; ++v) {
+                const ClosestPoint cp = output.closest(mesh.position(int(v)), hint);
+                vertexDist[size_t(v)] = std::sqrt(cp.distance2);
+                vertexTri[size_t(v)] = hint = cp.triangle;
+            }
         });
         parallelFor(0, nF, [&](int64_t f) {
             const auto &fc = mesh.face(int(f));

@@ -191,6 +191,28 @@ std::vector<double> scaleFunction(const Level &L, const std::vector<std::array<i
     return phi;
 }
 
+/// Sorted, duplicate-free neighbour lists (CSR) from directed pairs (a, b)
+/// given by `forEachPair(emit)`, which is called twice (count, then fill): no
+/// list per vertex is allocated.
+template <typename ForEachPair>
+void buildAdjacency(int nV, ForEachPair &&forEachPair, std::vector<int> &offset, std::vector<int> &adj) {
+    std::vector<int> start(static_cast<size_t>(nV) + 1, 0);
+    forEachPair([&](int a, int) { ++start[size_t(a) + 1]; });
+    for (int v = 0; v < nV; ++v) start[size_t(v) + 1] += start[size_t(v)];
+    std::vector<int> all(static_cast<size_t>(start[size_t(nV)])), fill(start.begin(), start.end() - 1);
+    forEachPair([&](int a, int b) { all[size_t(fill[size_t(a)]++)] = b; });
+    offset.assign(1, 0);
+    offset.reserve(static_cast<size_t>(nV) + 1);
+    adj.clear();
+    adj.reserve(all.size() / 2 + 1);
+    for (int v = 0; v < nV; ++v) {
+        const auto b = all.begin() + start[size_t(v)], e = all.begin() + start[size_t(v) + 1];
+        std::sort(b, e);
+        adj.insert(adj.end(), b, std::unique(b, e));
+        offset.push_back(int(adj.size()));
+    }
+}
+
 /// The finest level: the input's vertices with the field's first member direction,
 /// midpoint-subdivided (in the faces' planes, so the surface is unchanged) until the
 /// mean edge is at most kMaxEdge L, so that no edge jumps over a lattice point.
@@ -271,22 +293,17 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
     }
     const int nV = int(L.p.size());
     L.area.assign(nV, 0.0);
-    std::vector<std::vector<int>> nb(nV);
     for (const auto &t : tris) {
         const double area = 0.5 * (L.p[t[1]] - L.p[t[0]]).cross(L.p[t[2]] - L.p[t[0]]).norm();
-        for (int k = 0; k < 3; ++k) {
-            L.area[t[k]] += area / 3;
-            nb[t[k]].push_back(t[(k + 1) % 3]);
-            nb[t[(k + 1) % 3]].push_back(t[k]);
-        }
+        for (int k = 0; k < 3; ++k) L.area[t[k]] += area / 3;
     }
-    L.adjOffset.assign(1, 0);
-    for (auto &list : nb) {
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
-        L.adj.insert(L.adj.end(), list.begin(), list.end());
-        L.adjOffset.push_back(int(L.adj.size()));
-    }
+    buildAdjacency(
+        nV,
+        [&](auto &&emit) {
+            for (const auto &t : tris)
+                for (int k = 0; k < 3; ++k) emit(t[k], t[(k + 1) % 3]), emit(t[(k + 1) % 3], t[k]);
+        },
+        L.adjOffset, L.adj);
     L.o = L.p;
     {
         // Spacing L e^{λφ}, clamped to [L/2, 2L], scaled so that the number of
@@ -336,6 +353,7 @@ Level coarsen(Level &fine) {
         int i, j;
     };
     std::vector<Cand> cands;
+    cands.reserve(fine.adj.size() / 2);
     for (int i = 0; i < n; ++i)
         for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
             const int j = fine.adj[k];
@@ -388,19 +406,16 @@ Level coarsen(Level &fine) {
         q -= nn * nn.dot(q);
         q = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(nn);
     }
-    std::vector<std::vector<int>> nb(coarse.size());
-    for (int i = 0; i < n; ++i)
-        for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
-            const int ci = fine.toCoarse[i], cj = fine.toCoarse[fine.adj[k]];
-            if (ci != cj) nb[ci].push_back(cj);
-        }
-    coarse.adjOffset.assign(1, 0);
-    for (auto &list : nb) {
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
-        coarse.adj.insert(coarse.adj.end(), list.begin(), list.end());
-        coarse.adjOffset.push_back(int(coarse.adj.size()));
-    }
+    buildAdjacency(
+        coarse.size(),
+        [&](auto &&emit) {
+            for (int i = 0; i < n; ++i)
+                for (int k = fine.adjOffset[i]; k < fine.adjOffset[i + 1]; ++k) {
+                    const int ci = fine.toCoarse[i], cj = fine.toCoarse[fine.adj[k]];
+                    if (ci != cj) emit(ci, cj);
+                }
+        },
+        coarse.adjOffset, coarse.adj);
     coarse.pinned.assign(coarse.size(), 0);
     coarse.o.assign(coarse.size(), Vec3::Zero());
     for (int i = 0; i < n; ++i)
