@@ -12,7 +12,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$here"
 build=${ROSY_BUILD_DIR:-$here/build}
 reps=${ROSY_BENCH_REPETITIONS:-5}
-cmake --build "$build" -j "${ROSY_JOBS:-2}" --target field_bench render_bench plotter_bench rosyhatch >/dev/null
+cmake --build "$build" -j "${ROSY_JOBS:-2}" --target field_bench render_bench plotter_bench remesh_bench rosyhatch >/dev/null
 agg=(--benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true)
 
 echo "== field stages, bunny00 =="
@@ -32,3 +32,10 @@ trap 'rm -rf "$out"' EXIT
 for _ in $(seq "$reps"); do
   /usr/bin/time -f "%e %M" "$build/cli/rosyhatch" render scenes/bunny.yaml -o "$out/bunny.png" --quiet 2>&1 >/dev/null
 done | sort -n | awk '{w[NR]=$1; m=$2} END {printf "median wall %.2f s (min %.2f, max %.2f), peak %.0f MiB\n", w[int((NR+1)/2)], w[1], w[NR], m/1024}'
+echo "== remesher, bunny00 at L = 1 % (x_field: a multiple of the field stage measured in the same process) =="
+"$build/bench/remesh_bench" "${agg[@]}" 2>/dev/null | grep -E '_median|^Benchmark|^---'
+echo "== whole process: rosyhatch remesh data/meshes/bunny00.off, $reps runs: wall s, peak KiB, total / field stage of the same run =="
+for _ in $(seq "$reps"); do
+  /usr/bin/time -f "%e %M" -o "$out/time" "$build/cli/rosyhatch" remesh data/meshes/bunny00.off -o "$out/b.obj" --report "$out/b.json" --quiet
+  python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["timings_ms"]; w, m = open(sys.argv[2]).read().split(); print(w, m, t["total"] / (t["frames"] + t["field"] + t["singularities"]))' "$out/b.json" "$out/time"
+done | sort -n | awk '{w[NR]=$1; m=$2; r[NR]=$3} END {printf "median wall %.2f s (min %.2f, max %.2f), peak %.0f MiB, %.1fx the field stage (median run)\n", w[int((NR+1)/2)], w[1], w[NR], m/1024, r[int((NR+1)/2)]}'
