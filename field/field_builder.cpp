@@ -62,7 +62,7 @@ struct FieldCache::Impl {
     std::mutex mutex;
     struct Curvature {
         CurvatureOptions options;
-        std::vector<VertexCurvature> values;
+        std::shared_ptr<const std::vector<VertexCurvature>> values;
         double anisotropy = 0;
         std::map<int, RosyField> guides; // per N
     };
@@ -80,8 +80,8 @@ struct FieldCache::Impl {
                 return *c;
         auto c = std::make_unique<Curvature>();
         c->options = options;
-        c->values = computeCurvature(frames->mesh(), options);
-        c->anisotropy = field::curvatureAnisotropy(c->values);
+        c->values = std::make_shared<const std::vector<VertexCurvature>>(computeCurvature(frames->mesh(), options));
+        c->anisotropy = field::curvatureAnisotropy(*c->values);
         curvatures.push_back(std::move(c));
         return *curvatures.back();
     }
@@ -92,7 +92,7 @@ FieldCache::~FieldCache() = default;
 
 const TangentFrames &FieldCache::frames() const { return *m_impl->frames; }
 
-const std::vector<VertexCurvature> &FieldCache::curvature(const CurvatureOptions &options) {
+std::shared_ptr<const std::vector<VertexCurvature>> FieldCache::curvature(const CurvatureOptions &options) {
     std::lock_guard lock(m_impl->mutex);
     return m_impl->curvature(options).values;
 }
@@ -106,7 +106,7 @@ const RosyField &FieldCache::curvatureGuide(const CurvatureOptions &options, int
     std::lock_guard lock(m_impl->mutex);
     Impl::Curvature &c = m_impl->curvature(options);
     auto it = c.guides.find(nSym);
-    if (it == c.guides.end()) it = c.guides.emplace(nSym, curvatureField(*m_impl->frames, c.values, nSym)).first;
+    if (it == c.guides.end()) it = c.guides.emplace(nSym, curvatureField(*m_impl->frames, *c.values, nSym)).first;
     return it->second;
 }
 

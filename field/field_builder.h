@@ -50,7 +50,9 @@ constexpr int kMaxSymmetry = 12;
 /// The field and what it cost.
 struct FieldResult {
     RosyField field;
-    std::vector<VertexCurvature> curvature; ///< filled for the curvature source
+    /// The curvature source's per-vertex curvature, shared with the FieldCache that
+    /// computed it (read-only: no copy per build); null for the other sources.
+    std::shared_ptr<const std::vector<VertexCurvature>> curvature;
     std::map<std::string, double> timingsMs; ///< per stage: curvature, solve, smoothing
     /// The smoothest field's eigen-solve (method, iterations, any fallback and why),
     /// when the field came from smoothestField(): the smoothest source, or the
@@ -85,8 +87,8 @@ public:
     FieldCache &operator=(const FieldCache &) = delete;
 
     const TangentFrames &frames() const;
-    /// computeCurvature(mesh, options).
-    const std::vector<VertexCurvature> &curvature(const CurvatureOptions &options);
+    /// computeCurvature(mesh, options), computed once and shared (never modified).
+    std::shared_ptr<const std::vector<VertexCurvature>> curvature(const CurvatureOptions &options);
     /// curvatureAnisotropy(curvature(options)).
     double curvatureAnisotropy(const CurvatureOptions &options);
     /// curvatureField(frames, curvature(options), nSym).

@@ -10,8 +10,6 @@
 
 #include "core/parallel.h"
 
-#include <tbb/task_group.h>
-
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -55,21 +53,7 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
     const char letters[] = "abcdefgh";
 
     std::vector<ComparePanel> &panels = out.panels;
-    // What needs no field (BVH, G-buffer, tone, contours) is the same for every
-    // panel: drawn once, as a task beside the fields (renderScene() does the same).
-    std::unique_ptr<renderer::RayScene> rayScene;
-    std::optional<renderer::Illustration> begun;
-    double bvhMs = 0;
-    tbb::task_group view;
-    if (!spec.fieldPictures)
-        view.run([&] {
-            const auto start = std::chrono::steady_clock::now();
-            rayScene = std::make_unique<renderer::RayScene>(scene.mesh);
-            bvhMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-            begun = beginHatching(loaded, *rayScene);
-        });
-    try {
-    timed("fields", [&] {
+    auto buildFields = [&] {
         if (spec.variants.empty()) {
             // The fields are independent: built side by side, each into its own slot.
             panels.resize(spec.symmetries.size());
@@ -141,20 +125,16 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
             panel.label = prefix + what + ": " + countText(panel.singularities.singularities.size());
             panels.push_back(std::move(panel));
         }
-    });
-
-    } catch (...) {
-        // The task reads the scene: let it end first; its own failure is second to this one.
-        try {
-            view.wait();
-        } catch (...) {
-        }
-        throw;
-    }
-    view.wait(); // rethrows the task's failure (Embree)
-    if (!spec.fieldPictures) {
-        out.timingsMs.emplace_back("bvh", bvhMs);
-        if (options.onStage) options.onStage("bvh", bvhMs);
+    };
+    // What needs no field (BVH, G-buffer, tone, contours) is the same for every
+    // panel: drawn once, beside the fields (as renderScene() does).
+    std::optional<HatchingView> view;
+    if (spec.fieldPictures) {
+        timed("fields", buildFields);
+    } else {
+        view = beginHatchingBeside(scene, [&] { timed("fields", buildFields); });
+        out.timingsMs.emplace_back("bvh", view->bvhMs);
+        if (options.onStage) options.onStage("bvh", view->bvhMs);
     }
     // One picture per panel, all through the scene's camera, side by side (the
     // hatching tracer is sequential); each panel's result depends on its field only.
@@ -171,7 +151,7 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                                                              seps, scene.camera, fo);
                 return;
             }
-            renderer::Illustration il = finishHatching(*begun, loaded, panel.field, panel.singularities, *rayScene,
+            renderer::Illustration il = finishHatching(view->begun, loaded, panel.field, panel.singularities, *view->rays,
                                                        true, true, /*progress=*/false);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.

@@ -4,7 +4,8 @@
 /// the same field source built as each N-RoSy (a–b), or variants of the scene's
 /// field — as built, topologically edited, globally smoothed (c–d). The scene is
 /// loaded once (loadScene()); every field goes through buildSceneField() and every
-/// hatched panel through drawHatching(), the pipeline `rosyhatch render` runs.
+/// hatched panel through beginHatchingBeside() (once, shared) and finishHatching(),
+/// the path `rosyhatch render` takes.
 
 #include "field/rosy.h"
 #include "field/singularities.h"

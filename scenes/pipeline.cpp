@@ -48,18 +48,16 @@ std::unique_ptr<field::TangentFrames> buildFrames(const Scene &scene, const Pipe
     return timed("frames", timings, options, [&] { return std::make_unique<field::TangentFrames>(scene.mesh); });
 }
 
-/// What the drawing of a loaded scene reads, but the field and the ray scene.
-renderer::IllustrationInput illustrationInput(const LoadedScene &loaded, bool measureHatching, bool raster) {
-    const Scene &scene = *loaded.scene;
+/// What beginIllustration() reads: the scene's mesh, camera, lights, shading and
+/// style and the ray scene (not the frames: they may still be being built).
+renderer::IllustrationInput viewInput(const Scene &scene, const renderer::RayScene &rays) {
     renderer::IllustrationInput in;
     in.mesh = &scene.mesh;
-    in.frames = loaded.frames.get();
+    in.scene = &rays;
     in.camera = &scene.camera;
     in.lights = scene.lights;
     in.shading = scene.shading;
     in.style = scene.style;
-    in.measureHatching = measureHatching;
-    in.raster = raster;
     return in;
 }
 
@@ -111,66 +109,46 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
     return out;
 }
 
-renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
-                                    const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    bool measureHatching, bool raster) {
-    renderer::IllustrationInput in = illustrationInput(loaded, measureHatching, raster);
-    in.field = &rosyField;
-    in.singularities = &singularities;
-    in.scene = &rays;
-    return renderer::renderIllustration(in);
-}
-
-renderer::Illustration beginHatching(const LoadedScene &loaded, const renderer::RayScene &rays) {
-    renderer::IllustrationInput in = illustrationInput(loaded, true, true);
-    in.scene = &rays;
-    return renderer::beginIllustration(in);
+renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays) {
+    return renderer::beginIllustration(viewInput(scene, rays));
 }
 
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                       bool measureHatching, bool raster, bool progress) {
-    renderer::IllustrationInput in = illustrationInput(loaded, measureHatching, raster);
+    renderer::IllustrationInput in = viewInput(*loaded.scene, rays);
+    in.frames = loaded.frames.get();
     in.field = &rosyField;
     in.singularities = &singularities;
-    in.scene = &rays;
+    in.measureHatching = measureHatching;
+    in.raster = raster;
     in.progress = progress;
     renderer::finishIllustration(begun, in);
     return begun;
 }
 
-namespace {
+renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
+                                    const field::SingularityReport &singularities, const renderer::RayScene &rays,
+                                    bool measureHatching, bool raster) {
+    return finishHatching(beginHatching(*loaded.scene, rays), loaded, rosyField, singularities, rays,
+                          measureHatching, raster);
+}
 
-/// renderScene() for `picture.kind: hatching`. After the load, two chains share the
-/// cores: the field (frames, field, singularities) on this thread and, as a task
-/// beside it, what needs no field (Embree BVH, G-buffer, tone, contours:
-/// renderer::beginIllustration()); then the rest of the drawing. The result is the
-/// same as running them one after the other: neither chain reads what the other
-/// writes. The task's stages reach `timings` and options.onStage from this thread,
-/// after the field's, in the order bvh, gbuffer, tone, screen_field, hatching,
-/// contours, raster; their times overlap the field's.
-RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &options, RenderResult out) {
-    out.loaded.scene = loadSceneObjects(desc, options, &out.timingsMs);
-    renderer::IllustrationInput in = illustrationInput(out.loaded, options.measureHatching, options.raster);
-    const field::Mesh &mesh = out.loaded.scene->mesh;
-    double bvhMs = 0;
-    std::optional<renderer::Illustration> begun;
+HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork) {
+    HatchingView out;
     tbb::task_group view;
     view.run([&] {
         const auto start = std::chrono::steady_clock::now();
-        out.rays = std::make_unique<renderer::RayScene>(mesh);
-        bvhMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        renderer::IllustrationInput viewIn = in;
-        viewIn.scene = out.rays.get();
-        begun = renderer::beginIllustration(viewIn);
+        out.rays = std::make_unique<renderer::RayScene>(scene.mesh);
+        out.bvhMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        out.begun = beginHatching(scene, *out.rays);
     });
     try {
-        out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
-        out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+        fieldWork();
     } catch (...) {
-        // The view task reads the mesh: let it end before the scene goes. Its own
-        // failure, if any, is second to this one.
+        // The task reads the scene: let it end before the caller's scene goes. Its
+        // own failure, if any, is second to this one.
         try {
             view.wait();
         } catch (...) {
@@ -178,14 +156,28 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
         throw;
     }
     view.wait(); // rethrows the task's exception (Embree failing)
-    out.timingsMs.emplace_back("bvh", bvhMs);
-    if (options.onStage) options.onStage("bvh", bvhMs);
-    in.frames = out.loaded.frames.get();
-    in.field = &out.field.field.field;
-    in.singularities = &out.field.singularities;
-    in.scene = out.rays.get();
-    out.illustration = std::move(*begun);
-    renderer::finishIllustration(*out.illustration, in);
+    return out;
+}
+
+namespace {
+
+/// renderScene() for `picture.kind: hatching`: after the load, the frames, field and
+/// singularities on this thread with what needs no field (Embree BVH, G-buffer, tone,
+/// contours) beside them (beginHatchingBeside()); then finishHatching(). The view's
+/// stages reach `timings` and options.onStage from this thread, after the field's,
+/// in the order bvh, gbuffer, tone, screen_field, hatching, contours, raster; their
+/// times overlap the field's.
+RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &options, RenderResult out) {
+    out.loaded.scene = loadSceneObjects(desc, options, &out.timingsMs);
+    HatchingView view = beginHatchingBeside(*out.loaded.scene, [&] {
+        out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
+        out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+    });
+    out.timingsMs.emplace_back("bvh", view.bvhMs);
+    if (options.onStage) options.onStage("bvh", view.bvhMs);
+    out.rays = std::move(view.rays);
+    out.illustration = finishHatching(std::move(view.begun), out.loaded, out.field.field.field,
+                                      out.field.singularities, *out.rays, options.measureHatching, options.raster);
     for (const auto &[stage, ms] : out.illustration->timingsMs) {
         out.timingsMs.emplace_back(stage, ms);
         if (options.onStage) options.onStage(stage, ms);

@@ -171,26 +171,44 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                     bool measureHatching = true, bool raster = true);
 
-/// drawHatching() in two halves, for callers drawing several fields of one scene
-/// (compareScene()): beginHatching() runs what needs no field (G-buffer, tone,
-/// contours: renderer::beginIllustration()) once; finishHatching() draws one field
-/// on a copy of it. finishHatching(beginHatching(...), ...) is drawHatching().
-/// `progress` off: no terminal display (for panels drawn side by side).
-renderer::Illustration beginHatching(const LoadedScene &loaded, const renderer::RayScene &rays);
+/// drawHatching() in two halves, the one path every hatching takes (renderScene(),
+/// compareScene(), drawHatching()): beginHatching() runs what needs no field
+/// (G-buffer, tone, contours: renderer::beginIllustration()) and reads only the
+/// scene, not its frames; finishHatching() draws one field on it (screen field,
+/// hatching, raster: renderer::finishIllustration()), on a copy when several fields
+/// share one begun drawing. `progress` off: no terminal display (for panels drawn
+/// side by side).
+renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays);
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                       bool measureHatching = true, bool raster = true, bool progress = true);
+
+/// What a hatching needs no field for: the Embree ray scene of the mesh, the begun
+/// drawing (beginHatching()) and the BVH's build time.
+struct HatchingView {
+    std::unique_ptr<renderer::RayScene> rays;
+    renderer::Illustration begun;
+    double bvhMs = 0;
+};
+
+/// Runs `fieldWork` on this thread while a oneTBB task beside it builds the
+/// HatchingView of `scene`, so the field and the view share the cores; returns the
+/// view once both have ended. The result is that of running them one after the
+/// other: the task reads only `scene`, which fieldWork must not change. If fieldWork
+/// throws, the task is waited for (its own failure, if any, dropped) and the
+/// exception rethrown; else a failure of the task (Embree) is rethrown.
+HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork);
 
 /// The whole pipeline: print mode when options.print (applyPrintUnits() on a copy
 /// of `desc`), buildSceneField(), then the scene's picture — the
 /// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the
 /// field picture (separatrices when the scene asks for them; the scene's lights
 /// only when it has a `lights` key, else the picture's own light).
-/// For hatching, what needs no field (BVH, G-buffer, tone, contours:
-/// renderer::beginIllustration()) runs as a oneTBB task beside the frames and the
-/// field, so the two chains share the cores; the drawing is the same as run in
-/// sequence. Their stages are reported after the field's (timings overlap).
+/// For hatching, what needs no field (BVH, G-buffer, tone, contours) runs beside
+/// the frames and the field (beginHatchingBeside()), then finishHatching(); the
+/// drawing is the same as run in sequence. Their stages are reported after the
+/// field's (timings overlap).
 /// \throws IoError / InputError from loading, editing and options.afterLoad;
 ///   std::runtime_error if Embree fails.
 RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options = {});

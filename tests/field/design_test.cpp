@@ -204,7 +204,17 @@ TEST(FieldCache, GivesTheFieldOfAColdBuildBitForBit) {
         int differ = 0;
         for (int v = 0; v < cold.field.u.size(); ++v) differ += !(cold.field.u[v] == warm.field.u[v]);
         EXPECT_EQ(differ, 0) << "spec " << k;
-        EXPECT_EQ(cold.curvature.size(), warm.curvature.size()) << "spec " << k;
+        ASSERT_EQ(bool(cold.curvature), bool(warm.curvature)) << "spec " << k;
+        EXPECT_EQ(bool(cold.curvature), specs[k].source == FieldSource::Curvature) << "spec " << k;
+        if (cold.curvature) {
+            ASSERT_EQ(cold.curvature->size(), warm.curvature->size()) << "spec " << k;
+            int curvatureDiffers = 0;
+            for (size_t v = 0; v < cold.curvature->size(); ++v) {
+                const VertexCurvature &a = (*cold.curvature)[v], &b = (*warm.curvature)[v];
+                curvatureDiffers += !(a.kMin == b.kMin && a.kMax == b.kMax && a.dirMax == b.dirMax);
+            }
+            EXPECT_EQ(curvatureDiffers, 0) << "spec " << k;
+        }
         EXPECT_EQ(cold.eigenSolve.has_value(), warm.eigenSolve.has_value()) << "spec " << k;
     }
     // And the cold build is the chain of the library's own steps, as before there was
@@ -222,6 +232,12 @@ TEST(FieldCache, GivesTheFieldOfAColdBuildBitForBit) {
     // The specs do give different fields (the comparison above can fail).
     const FieldResult a = buildField(fr, specs[1], &cache), b = buildField(fr, specs[2], &cache);
     EXPECT_FALSE(a.field.u == b.field.u);
+    // Builds through one cache share its curvature instead of copying it (a studio
+    // edit must not copy #V tensors); a cold build computes its own.
+    const FieldResult c1 = buildField(fr, specs[0], &cache), c2 = buildField(fr, specs[1], &cache);
+    ASSERT_TRUE(c1.curvature && c2.curvature);
+    EXPECT_EQ(c1.curvature.get(), c2.curvature.get());
+    EXPECT_NE(buildField(fr, specs[0]).curvature.get(), c1.curvature.get());
     // A cache belongs to one mesh's frames.
     TangentFrames other(torus);
     EXPECT_ANY_THROW(buildField(other, specs[0], &cache));
