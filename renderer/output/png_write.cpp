@@ -9,23 +9,37 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csetjmp>
 #include <cstring>
+#include <new>
 #include <vector>
 
 namespace rosy::renderer {
 namespace {
 
-/// The encoded file in memory and libpng's last error message.
+/// The encoded file in memory, its bound and libpng's last error message.
 struct PngSink {
-    std::vector<unsigned char> bytes;
+    std::vector<unsigned char> *bytes = nullptr;
+    size_t maxBytes = 0;
     char message[256] = {};
 };
 
 void appendBytes(png_structp png, png_bytep data, size_t n) {
     auto *sink = static_cast<PngSink *>(png_get_io_ptr(png));
-    sink->bytes.insert(sink->bytes.end(), data, data + n);
+    // No C++ exception may cross libpng's C frames: failures go through png_error().
+    // (png_error() longjmps: never from inside the catch handler.)
+    const bool fits = n <= sink->maxBytes - sink->bytes->size();
+    bool stored = false;
+    if (fits) {
+        try {
+            sink->bytes->insert(sink->bytes->end(), data, data + n);
+            stored = true;
+        } catch (const std::bad_alloc &) {
+        }
+    }
+    if (!stored) png_error(png, fits ? "out of memory for the encoded image" : "the encoded image is larger than its bound");
 }
 
 void flushNothing(png_structp) {}
@@ -83,25 +97,38 @@ bool encode(PngSink *sink, int width, int height, int nChannels, const uint8_t *
 
 } // namespace
 
-bool writePng8(const std::string &path, int width, int height, int nChannels, const uint8_t *pixels,
-               std::string &error) {
+bool encodePng8(int width, int height, int nChannels, const uint8_t *pixels, std::vector<unsigned char> &bytes,
+                std::string &error, size_t maxBytes) {
+    bytes.clear();
     if (nChannels < 1 || nChannels > 4 || width < 1 || height < 1) {
         error = "PNG: unsupported image shape";
         return false;
     }
     PngSink sink;
-    sink.bytes.reserve(size_t(width) * size_t(height) * size_t(nChannels) / 4 + 4096);
+    sink.bytes = &bytes;
+    sink.maxBytes = maxBytes;
+    // A first guess at the size (a quarter of the pixels' bytes; capped, so that a
+    // shape libpng will reject allocates nothing large).
+    const double guess = double(width) * double(height) * double(nChannels) / 4 + 4096;
+    bytes.reserve(size_t(std::min({guess, double(maxBytes), double(size_t(1) << 28)})));
     if (!encode(&sink, width, height, nChannels, pixels)) {
         error = std::string("PNG: ") + sink.message;
         return false;
     }
+    return true;
+}
+
+bool writePng8(const std::string &path, int width, int height, int nChannels, const uint8_t *pixels,
+               std::string &error) {
+    std::vector<unsigned char> bytes;
+    if (!encodePng8(width, height, nChannels, pixels, bytes, error)) return false;
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd < 0) {
         error = std::string("cannot open for writing: ") + std::strerror(errno);
         return false;
     }
-    const unsigned char *p = sink.bytes.data();
-    size_t left = sink.bytes.size();
+    const unsigned char *p = bytes.data();
+    size_t left = bytes.size();
     while (left > 0) {
         const ssize_t n = ::write(fd, p, left);
         if (n < 0 && errno == EINTR) continue;

@@ -11,10 +11,22 @@
 /// strategy, 8 KiB IDAT chunks, then gAMA/sRGB/cHRM (sRGB, absolute intent), a
 /// zero oFFs and the tEXt `oiio:ColorSpace` = `sRGB`.
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace rosy::renderer {
+
+/// The PNG writePng8() writes, encoded in memory into `bytes` (replaced). False with
+/// a message when the shape is not 1–4 channels of at least 1×1, when libpng rejects
+/// the image (e.g. a side over its limit of 10⁶ pixels) or runs out of memory, or when
+/// the file would pass `maxBytes` (then `bytes` holds what was encoded up to there).
+/// libpng reports its errors by longjmp back into the encoder, which then frees
+/// its state (tests/fuzz/fuzz_png.cpp drives every one of these exits).
+bool encodePng8(int width, int height, int nChannels, const uint8_t *pixels, std::vector<unsigned char> &bytes,
+                std::string &error, size_t maxBytes = std::numeric_limits<size_t>::max());
 
 /// Writes `pixels` (height rows of width * nChannels bytes, 1 = grey, 2 = grey +
 /// alpha, 3 = RGB, 4 = RGBA, alpha last and straight) as a PNG at `path` (created

@@ -1,4 +1,5 @@
 #include "renderer/output/image.h"
+#include "renderer/output/png_write.h"
 
 #include "core/error.h"
 
@@ -253,4 +254,33 @@ TEST(WriteImage, PngIsTheFileOpenImageIoWrites) {
             EXPECT_TRUE(a == b) << tag << ": " << a.size() << " bytes against OpenImageIO's " << b.size();
         }
     }
+}
+
+TEST(WritePng, LibpngErrorsComeBackAsMessages) {
+    // libpng reports errors by longjmp into encodePng8(); each exit must come back as
+    // false with a message, the file in memory kept within its bound
+    // (tests/fuzz/fuzz_png.cpp drives the same exits with fuzzed shapes and bounds).
+    std::vector<uint8_t> pixels(64 * 48 * 3);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t((i * 2654435761u) >> 13);
+    std::vector<unsigned char> full, bounded;
+    std::string error;
+    ASSERT_TRUE(encodePng8(64, 48, 3, pixels.data(), full, error)) << error;
+    ASSERT_GT(full.size(), 100u);
+    // The bound cuts the file in the header, among the rows and in the last chunk.
+    for (size_t bound : {size_t(0), size_t(20), full.size() / 2, full.size() - 1}) {
+        error.clear();
+        EXPECT_FALSE(encodePng8(64, 48, 3, pixels.data(), bounded, error, bound)) << bound;
+        EXPECT_EQ(error, "PNG: the encoded image is larger than its bound") << bound;
+        EXPECT_LE(bounded.size(), bound);
+    }
+    ASSERT_TRUE(encodePng8(64, 48, 3, pixels.data(), bounded, error, full.size())) << error;
+    EXPECT_TRUE(bounded == full);
+    // A side over libpng's limit (10^6) is rejected in png_set_IHDR, before any row
+    // is read: the one row of pixels given is never touched past its end.
+    error.clear();
+    EXPECT_FALSE(encodePng8(1'000'001, 2, 1, pixels.data(), bounded, error));
+    EXPECT_EQ(error.rfind("PNG: ", 0), 0u) << error;
+    EXPECT_GT(error.size(), 5u);
+    EXPECT_FALSE(encodePng8(0, 2, 1, pixels.data(), bounded, error));
+    EXPECT_EQ(error, "PNG: unsupported image shape");
 }
