@@ -511,8 +511,10 @@ uint64_t mortonCode(const Vec3 &p, const Vec3 &lo, double scale) {
         return x;
     };
     uint64_t c[3];
-    for (int k = 0; k < 3; ++k)
-        c[k] = uint64_t(std::clamp((p[k] - lo[k]) * scale * 2097151.0, 0.0, 2097151.0));
+    for (int k = 0; k < 3; ++k) {
+        const double t = (p[k] - lo[k]) * scale * 2097151.0;
+        c[k] = t > 0 ? uint64_t(std::min(t, 2097151.0)) : 0; // NaN -> 0: no undefined conversion
+    }
     return spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2;
 }
 
