@@ -512,6 +512,7 @@ public:
     }
 
     std::vector<Stroke> takeStrokes() { return std::move(m_strokes); }
+    const std::vector<uint8_t> &bluntEnds() const { return m_blunt; }
 
 private:
     int pixelIndex(const Vec2 &p) const {
@@ -706,7 +707,8 @@ private:
 
     /// Integrates from p along heading h (RK2 midpoint on the line field), appending
     /// samples with arc lengths sign * (distance from the seed).
-    void extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
+    /// Returns whether the line stopped at a singularity's keep-away disc.
+    bool extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
         const int maxSteps = int(4.0 * (m_field.width + m_field.height) / m_minStep);
         double arc = 0;
         for (int it = 0; it < maxSteps; ++it) {
@@ -720,7 +722,7 @@ private:
             if (im < 0 || blockedAt(pm, im)) break;
             if (!direction(pm, v1, v2) || v2.dot(h) < kMaxTurnCos) break; // sharp turn: near a singularity
             const Vec2 q = p + step * v2;
-            if (!eligible(q)) break;
+            if (!eligible(q)) return inDisc(q);
             const int iq = pixelIndex(q);
             const double r = kTestRatio * spacingAt(iq);
             if (tooClose(q, v2, r, stroke, sign * (arc + step), singleTone(iq))) break;
@@ -731,6 +733,7 @@ private:
             p = q;
             h = v2;
         }
+        return false;
     }
 
     bool traceStroke(const Vec2 &seed, const Vec2 &dir, Pass pass) {
@@ -739,8 +742,8 @@ private:
         Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
         m_grid.add(s0);
         std::vector<Sample> fwd, bwd;
-        extend(seed, dir, 1.0, id, fwd);
-        extend(seed, -dir, -1.0, id, bwd);
+        const bool bluntEnd = extend(seed, dir, 1.0, id, fwd);
+        const bool bluntStart = extend(seed, -dir, -1.0, id, bwd);
         const double length = (fwd.empty() ? 0.0 : fwd.back().arc) - (bwd.empty() ? 0.0 : bwd.back().arc);
         // Shortest stroke kept: the style's minLengthPx, and kStubLengthRatio times its
         // mean d_sep (as measureHatches() takes it), so no dash much shorter than the
@@ -779,6 +782,7 @@ private:
         }
         m_strokes.push_back(std::move(stroke));
         m_tangents.push_back(std::move(tangents));
+        m_blunt.push_back(uint8_t((bluntStart ? 1 : 0) | (bluntEnd ? 2 : 0)));
         return true;
     }
 
@@ -879,11 +883,16 @@ private:
     uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
     std::vector<Stroke> m_strokes;
     std::vector<std::vector<Vec2>> m_tangents;
+    std::vector<uint8_t> m_blunt; // per stroke: bit 0 its start, bit 1 its end stopped at a disc (untapered)
     size_t m_next = 0;
 };
 
 /// Width profile and optional wobble of one stroke; randomness from (seed, id) only.
-void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed) {
+/// `blunt` bit 0 / bit 1: the start / end stopped at a singularity's keep-away disc
+/// and keeps its full width there. A taper thins the last three widths before the
+/// disc, so the light hole read larger than the disc the rule clears (in cross tone,
+/// where many lines stop around it, enough to count as a seam).
+void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed, uint8_t blunt) {
     const size_t n = stroke.points.size();
     std::vector<double> arc(n, 0.0);
     for (size_t k = 1; k < n; ++k) arc[k] = arc[k - 1] + (stroke.points[k] - stroke.points[k - 1]).norm();
@@ -901,16 +910,19 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
     auto noise = [&](double s, double l1, double l2, double a, double b) {
         return 0.6 * std::sin(2 * M_PI * s / l1 + a) + 0.4 * std::sin(2 * M_PI * s / l2 + b);
     };
-    // The tapered ends thin the stroke: over each end of length taperLen the
-    // smoothstep profile averages kTaperFloor + (1 − kTaperFloor) / 2, so the whole
-    // stroke averages 1 − taper (1 − kTaperFloor) of its peak. Dividing by that
-    // keeps the mean width at strokeWidthPx, the width the spacing formula assumes.
-    const double meanProfile = 1.0 - taperFrac * (1.0 - kTaperFloor);
+    // The tapered ends thin the stroke: over each tapered end of length taperLen the
+    // smoothstep profile averages kTaperFloor + (1 − kTaperFloor) / 2, so with both
+    // ends tapered the stroke averages 1 − taper (1 − kTaperFloor) of its peak (half
+    // that loss with one). Dividing by that keeps the mean width at strokeWidthPx,
+    // the width the spacing formula assumes.
+    const bool taperStart = !(blunt & 1), taperEnd = !(blunt & 2);
+    const double meanProfile = 1.0 - 0.5 * (int(taperStart) + int(taperEnd)) * taperFrac * (1.0 - kTaperFloor);
     stroke.widths.resize(n);
     for (size_t k = 0; k < n; ++k) {
         double profile = 1.0;
         if (taperLen > 0) {
-            const double e = std::clamp(std::min(arc[k], length - arc[k]) / taperLen, 0.0, 1.0);
+            const double fromEnd = std::min(taperStart ? arc[k] : 1e300, taperEnd ? length - arc[k] : 1e300);
+            const double e = std::clamp(fromEnd / taperLen, 0.0, 1.0);
             profile = (kTaperFloor + (1 - kTaperFloor) * e * e * (3 - 2 * e)) / meanProfile;
         }
         const double pressure =
@@ -997,10 +1009,11 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
         hatcher.traceFamily(1);
         hatcher.fillHoles();
         hatcher.relabelCrossings();
+        const std::vector<uint8_t> blunt = hatcher.bluntEnds();
         out.strokes = hatcher.takeStrokes();
         // Each stroke's finish depends only on itself and (seed, id): safe in parallel.
         parallelFor(0, int64_t(out.strokes.size()),
-                    [&](int64_t k) { finishStroke(out.strokes[size_t(k)], style, seed); }, 64);
+                    [&](int64_t k) { finishStroke(out.strokes[size_t(k)], style, seed, blunt[size_t(k)]); }, 64);
     }
     if (report) *report = measureHatches(out, field, targetDensity, style);
     return out;

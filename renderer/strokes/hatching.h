@@ -151,8 +151,9 @@ double localSpacingPx(double density, const styles::HatchStyle &style);
 /// times their mean d_sep are dropped; the hole pass (dark tone: cross tone, or tone
 /// past crossDensity whose screen directions folded together) keeps strokes from 2
 /// d_sep and holds minLengthPx only up to kStubLengthRatio d_sep. Tapers are at most
-/// three line widths long. Tracing is sequential (Jobard–Lefer is order
-/// dependent); the output is identical for any thread count. Stroke ids follow
+/// three line widths long; an end that stops at a singularity's disc keeps its full
+/// width. Tracing is sequential (Jobard–Lefer is order dependent); the output is
+/// identical for any thread count. Stroke ids follow
 /// creation order: the first family's pass, the second's, then the hole pass.
 /// Empty image or no valid pixel: an empty list.
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,

@@ -303,6 +303,58 @@ TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
     EXPECT_LT(nearest, 2.0 * dSep);
 }
 
+// A line that stops at a singularity's keep-away disc ends there at full width: a
+// taper would thin its last three widths and widen the light hole around the disc.
+// Its other end, stopped by anything else, is tapered, and the mean width is still
+// the style's.
+TEST(Hatching, StrokesEndingAtADiscKeepTheirWidth) {
+    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 192, 192);
+    Scene s(field::makeDisk(24), cam);
+    field::DesignElement e;
+    e.position = field::Vec3(0.05, 0.02, 0);
+    e.order = 1;
+    s.field = field::designField(*s.frames, 4, {e});
+    s.render();
+    styles::HatchStyle st;
+    st.pressureVariation = 0.0;
+    st.jitterPx = 0.0;
+    const float density = 0.2f;
+    const double dSep = st.strokeWidthPx / density; // one family: the disc's radius, 9 px
+    const StrokeList list = traceHatches(s.screen, s.uniformDensity(density), s.gbuffer, st, 5);
+    const field::SingularityReport sing = field::findSingularities(*s.frames, s.field);
+    ASSERT_FALSE(sing.singularities.empty());
+    auto nearestSingularity = [&](const Vec2 &p) {
+        double d = 1e9;
+        for (const field::Singularity &sg : sing.singularities) d = std::min(d, (p - cam.project(sg.position)).norm());
+        return d;
+    };
+    int atDisc = 0, elsewhere = 0;
+    for (const Stroke &stroke : list.strokes) {
+        const size_t n = stroke.points.size();
+        ASSERT_GE(n, 2u);
+        const float widest = *std::max_element(stroke.widths.begin(), stroke.widths.end());
+        double length = 0.0, ink = 0.0;
+        for (size_t k = 0; k + 1 < n; ++k) {
+            const double l = (stroke.points[k + 1] - stroke.points[k]).norm();
+            length += l;
+            ink += l * 0.5 * (stroke.widths[k] + stroke.widths[k + 1]);
+        }
+        EXPECT_NEAR(ink / length, st.strokeWidthPx, 0.03 * st.strokeWidthPx) << "stroke " << stroke.id;
+        for (size_t k : {size_t(0), n - 1}) {
+            const double d = nearestSingularity(stroke.points[k]);
+            if (d < dSep + 2.0) { // the last step (1.8 px) before the disc
+                ++atDisc;
+                EXPECT_FLOAT_EQ(stroke.widths[k], widest) << "stroke " << stroke.id << " at " << d << " px";
+            } else if (d > 2.0 * dSep) {
+                ++elsewhere;
+                EXPECT_LT(stroke.widths[k], 0.5f * widest) << "stroke " << stroke.id;
+            }
+        }
+    }
+    EXPECT_GE(atDisc, 4); // lines do come up to the disc
+    EXPECT_GE(elsewhere, 4);
+}
+
 // A +1 and a −1 design element a few pixels apart on screen give a pair of
 // singularities whose indices cancel. In cross-hatched tone the pair is below the
 // drawing's scale: hatching runs up to it (a separate keep-away disc for each would
