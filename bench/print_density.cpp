@@ -15,7 +15,10 @@
 // pen 0.3 mm, spacing 0.8–2.4 mm, min length 1 mm; "" for the scene's own),
 // PRINT_STYLE (one more line in the torus's style block, e.g. "seed: 2"),
 // PRINT_DIRECTION (the torus camera's direction); for a scene file, PRINT_SET
-// (more --set overrides, separated by ';', e.g. "style.seed=2").
+// (more --set overrides, separated by ';', e.g. "style.seed=2"); PRINT_BINS=1 adds
+// the fill by tone band, PRINT_MEASURE=1 measureHatches() (squeezed ink, stubs).
+// "fill" is the drawn hatch ink over the ink the tone asks for (1 / d_sep of each
+// family that hatches, per px²), computed here with the scene's own spacings.
 #include "renderer/illustration.h"
 #include "renderer/strokes/hatching.h"
 #include "scenes/pipeline.h"
@@ -140,6 +143,12 @@ int main(int argc, char **argv) {
                     page.c_str(), setup.resolution[0], setup.resolution[1], mm, (ink[0] + ink[1]) * mm / pic,
                     ink[0] * mm / pic, ink[1] * mm / pic, (ink[0] + ink[1]) / std::max(asked, 1e-9), n[0], n[1], (ink[0] + ink[1]) * mm / std::max(1, n[0] + n[1]),
                     sec);
+        if (std::getenv("PRINT_MEASURE")) {
+            const renderer::HatchReport r = renderer::measureHatches(il.strokes, il.screen, il.targetDensity, hs);
+            std::printf("   squeezed %.3f  stubs %.3f  cross-overdense %.3f  near-singularities %d  violations %d\n",
+                        r.squeezedFraction, r.stubFraction, r.crossOverdenseFraction, r.strokesNearSingularities,
+                        r.minSpacingViolations);
+        }
         if (std::getenv("PRINT_BINS")) {
             std::printf("   fill by target density (tenths), share of asked:");
             for (int b = 0; b < 10; ++b)

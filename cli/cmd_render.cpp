@@ -257,6 +257,7 @@ void runRender(const RenderOptions &opt) {
             json.field("pen_width_mm", print->lengths.penWidthMm);
             json.field("min_spacing_mm", print->lengths.minSpacingMm);
             json.field("mm_per_px", print->mmPerPx);
+            json.field("spacing_gain", il.spacingGain);
         }
         json.key("warnings").beginObject();
         for (const auto &[kind, count] : warningCounts()) json.field(kind, count);

@@ -29,6 +29,15 @@ namespace rosy::renderer {
 
 class RayScene;
 
+/// Print mode's ink calibration (HatchStyle::calibrateInk): the hatching is traced
+/// this many times, each after the first with its spacings scaled by the previous
+/// trace's ink over the tone's (toneInkPx), and the trace whose ink is nearest the
+/// tone's is kept. The gain is held to [kMinSpacingGain, kMaxSpacingGain]: a trace
+/// far off the tone (a picture a few spacings wide) corrects the next by at most that.
+inline constexpr int kInkCalibrationTraces = 3;
+inline constexpr double kMinSpacingGain = 0.5;
+inline constexpr double kMaxSpacingGain = 2.0;
+
 struct IllustrationInput {
     const field::Mesh *mesh = nullptr;
     const field::TangentFrames *frames = nullptr; ///< of *mesh
@@ -59,6 +68,9 @@ struct Illustration {
     InkLayers layers;   ///< empty when IllustrationInput::raster is off
     Image composite;    ///< linear RGB + alpha over paper; empty when IllustrationInput::raster is off
     HatchReport hatch;  ///< measured independently of the tracer (measureHatches), if asked
+    /// Print mode (HatchStyle::calibrateInk): the HatchStyle::spacingGain of the trace
+    /// kept (kInkCalibrationTraces); 1 otherwise.
+    double spacingGain = 1.0;
     ContourReport contours;
     /// The contours between beginIllustration() and finishIllustration(), which
     /// moves them to the end of `strokes`; empty after it.
@@ -81,7 +93,8 @@ Illustration renderIllustration(const IllustrationInput &input);
 /// caller can run this while the field is being built (scenes::renderScene()).
 Illustration beginIllustration(const IllustrationInput &input);
 
-/// The rest on a begun illustration: screen field, hatching (and its measurement),
+/// The rest on a begun illustration: screen field, hatching (in print mode traced
+/// kInkCalibrationTraces times, keeping the trace nearest the tone's ink) and its measurement,
 /// the contours appended after the hatches, raster. The result, timings included
 /// (in the order gbuffer, tone, screen_field, hatching, contours, raster), is
 /// exactly renderIllustration()'s.

@@ -39,6 +39,7 @@ Style printStyle(const Style &style, double mmPerPx, bool *coarsened) {
     s.hatch.minLengthPx = l.minLengthMm * scale;
     s.hatch.jitterPx = style.hatch.jitterPx * style.page.pxMm * scale;
     s.hatch.pixelScale = style.page.pxMm * scale;
+    s.hatch.calibrateInk = true;
     if (s.contour.widthPx > 0) s.contour.widthPx = s.hatch.strokeWidthPx;
     if (s.contour.creaseWidthPx > 0) s.contour.creaseWidthPx = s.hatch.strokeWidthPx;
     return s;

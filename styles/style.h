@@ -38,6 +38,15 @@ struct HatchStyle {
     /// (integration step bounds, wavelengths of pressure and wobble) scale with it, so
     /// a drawing traced at another pixel pitch keeps their size on paper.
     double pixelScale = 1.0;
+    /// Every spacing the tone asks for (before the [minSpacingPx, maxSpacingPx] clamp)
+    /// is multiplied by this (not a scene key): 1, except on print mode's second trace
+    /// (calibrateInk).
+    double spacingGain = 1.0;
+    /// Print mode (not a scene key; printStyle() sets it): the hatching is traced twice,
+    /// the second time with spacingGain = the first trace's ink length over the ink the
+    /// tone asks for (renderer::toneInkPx), so the drawing lays down the tone's line
+    /// density at any picture size on paper (renderer/illustration.h).
+    bool calibrateInk = false;
 };
 
 /// Outline strokes.

@@ -68,7 +68,7 @@ float clampDensity(float d) { return d == d ? std::clamp(d, 0.f, 1.f) : 0.f; }
 double spacingOfCoverage(double coverage, const styles::HatchStyle &style) {
     const double lo = style.minSpacingPx, hi = std::max(style.minSpacingPx, style.maxSpacingPx);
     if (!(coverage > 0)) return hi;
-    return std::clamp(style.strokeWidthPx / coverage, lo, hi);
+    return std::clamp(style.spacingGain * style.strokeWidthPx / coverage, lo, hi);
 }
 
 /// splitmix64: a tiny, well-mixed hash for per-stroke random numbers.
@@ -813,14 +813,16 @@ private:
             // any pixel around it is, so that read bilinearly at a point they give its
             // distance to the nearest edge pixel's square.
             std::vector<uint8_t> corners(size_t(w + 1) * size_t(h + 1), 0);
-            for (int y = 0; y <= h; ++y)
-                for (int x = 0; x <= w; ++x) {
-                    bool e = false;
-                    for (int yy = y - 1; yy <= y && !e; ++yy)
-                        for (int xx = x - 1; xx <= x && !e; ++xx)
-                            e = xx < 0 || yy < 0 || xx >= w || yy >= h || edge[size_t(yy) * size_t(w) + size_t(xx)];
-                    corners[size_t(y) * size_t(w + 1) + size_t(x)] = e;
+            parallelFor(0, h + 1, [&](int64_t y) {
+                uint8_t *row = &corners[size_t(y) * size_t(w + 1)];
+                if (y == 0 || y == h) { // beside the image border
+                    std::fill(row, row + w + 1, uint8_t(1));
+                    return;
                 }
+                const uint8_t *above = &edge[size_t(y - 1) * size_t(w)], *below = &edge[size_t(y) * size_t(w)];
+                row[0] = row[w] = 1;
+                for (int x = 1; x < w; ++x) row[x] = above[x - 1] | above[x] | below[x - 1] | below[x];
+            }, 8);
             m_blocked = std::move(edge);
             m_edgeDist = edgeDistanceEighths(corners, w + 1, h + 1);
             return;
@@ -956,7 +958,7 @@ double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &s
     // One family covers w/s; two crossing families cover 1 − (1 − w/s)².
     const double perFamily = nFamilies >= 2 ? 1.0 - std::sqrt(1.0 - rho) : rho;
     if (!(perFamily > 0)) return hi;
-    return std::clamp(style.strokeWidthPx / perFamily, lo, hi);
+    return std::clamp(style.spacingGain * style.strokeWidthPx / perFamily, lo, hi);
 }
 
 double maxHatchDensity(const styles::HatchStyle &style) {
@@ -991,6 +993,36 @@ double familySpacingPx(double density, int family, const styles::HatchStyle &sty
 
 double localSpacingPx(double density, const styles::HatchStyle &style) {
     return familySpacingPx(density, 0, style);
+}
+
+double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style) {
+    ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
+    // Per row, then summed in row order: the same total for any thread count.
+    std::vector<double> rows(size_t(std::max(0, field.height)), 0.0);
+    parallelFor(0, field.height, [&](int64_t y) {
+        double sum = 0;
+        for (int x = 0; x < field.width; ++x) {
+            const size_t i = size_t(field.index(x, int(y)));
+            const double rho = clampDensity(targetDensity[i]);
+            if (!field.valid[i] || hatchFamilies(rho, style) == 0) continue;
+            const double w = crossWeight(field, i);
+            const std::array<double, 2> c = familyCoverage(rho, style, w);
+            for (int f = 0; f < 2; ++f)
+                if (c[size_t(f)] > 0) sum += 1.0 / spacingOfCoverage(c[size_t(f)], style);
+        }
+        rows[size_t(y)] = sum;
+    }, 16);
+    double total = 0;
+    for (double r : rows) total += r;
+    return total;
+}
+
+double hatchInkPx(const StrokeList &strokes) {
+    double ink = 0;
+    for (const Stroke &s : strokes.strokes)
+        if (s.kind == StrokeKind::Hatch)
+            for (size_t k = 1; k < s.points.size(); ++k) ink += (s.points[k] - s.points[k - 1]).norm();
+    return ink;
 }
 
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,

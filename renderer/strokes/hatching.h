@@ -87,7 +87,7 @@ inline constexpr double kSqueezeRatio = 0.7;
 int hatchFamilies(double density, const styles::HatchStyle &style);
 
 /// Spacing d_sep (px) of each family at `density` when `nFamilies` (1 or 2) families
-/// share it, clamped to [minSpacingPx, maxSpacingPx]. Density <= 0 gives maxSpacingPx.
+/// share it (times spacingGain), clamped to [minSpacingPx, maxSpacingPx]. Density <= 0 gives maxSpacingPx.
 double hatchSpacingPx(double density, int nFamilies, const styles::HatchStyle &style);
 
 /// The darkest ink coverage the style can lay down: two crossing families at
@@ -126,13 +126,22 @@ inline constexpr double kCrossCollapseBandDeg = 20.0;
 double crossWeight(const ScreenField &field, size_t pixel);
 
 /// d_sep (px) of family `family` (0 or 1) at `density`: strokeWidthPx over its
-/// familyCoverage(), clamped to [minSpacingPx, maxSpacingPx]. Both the tracer and
+/// familyCoverage() (times the style's spacingGain, 1 outside print mode's ink
+/// calibration), clamped to [minSpacingPx, maxSpacingPx]. Both the tracer and
 /// measureHatches() use it.
 double familySpacingPx(double density, int family, const styles::HatchStyle &style, double crossWeight = 1.0);
 
 /// d_sep of the first family at `density` (familySpacingPx of family 0), the
 /// densest hatching there: the radius of the keep-away disc around singularities.
 double localSpacingPx(double density, const styles::HatchStyle &style);
+
+/// The hatch ink length (px) the tone asks for: over the valid pixels, the sum of
+/// 1 / familySpacingPx of each family that hatches there (lines per px across, per
+/// px² of picture). Deterministic for any thread count.
+double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style);
+
+/// Total polyline length (px) of the Hatch strokes of `strokes`.
+double hatchInkPx(const StrokeList &strokes);
 
 /// Traces the hatches.
 /// \param field screen field of the same resolution as `gbuffer`.

@@ -366,6 +366,9 @@ TEST(SceneOutputsCli, PrintModeWarnsAndReportsWhatThePipelineChose) {
     EXPECT_EQ(report.at("width").get<int>(), 4 * 48);
     EXPECT_NEAR(report.at("mm_per_px").get<double>(), 190.0 / (4 * 40), 1e-9); // A4 landscape: 190 mm high
     EXPECT_NE(r.err.find("warning: the page needs more than 192 px"), std::string::npos) << r.err;
+    // The spacing gain of the trace kept by the ink calibration (renderer/illustration.h).
+    const double gain = report.at("spacing_gain").get<double>();
+    EXPECT_TRUE(gain >= 0.5 && gain <= 2.0) << gain;
     EXPECT_NE(slurp(dir / "pen.svg").find("stroke-width=\"0.05\""), std::string::npos);
     // A PNG alone is not in print mode: no pen in the report.
     const CliRun png =

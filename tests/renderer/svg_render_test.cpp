@@ -378,16 +378,15 @@ TEST(PrintMode, SameLineDensityOnPaperForAnyResolutionAndPageSize) {
     std::printf("hatch ink per mm² of picture: 200² %.4f, 400² %.4f; page 60 %.4f, page 85 %.4f (mm/mm²)\n",
                 r200.inkPerMm2, r400.inkPerMm2, small.inkPerMm2, large.inkPerMm2);
     ASSERT_GT(r200.inkPerMm2, 0.05);
-    // Issue 18 asks for 5 %. Measured (2026-12-02): page 85/60 1.045 (0.954 before the
-    // guard band along silhouettes became a distance of one style pixel instead of
-    // whole traced pixels), SVG-only (0.17 mm/px) / kept (0.25 mm/px) 1.000 (1.056).
-    // 400²/200² is 1.063 (1.041 before): on this 50 mm picture of ~40 strokes one
-    // stroke is 2-5 % of the ink and the tracer's packing (where seeds land, whether
-    // a stroke survives) moves it by that much from one pitch to the next; the next
-    // test holds resolution over four views, where that scatter averages out.
+    // Issue 18 asks for 5 %. Measured (2026-12-02): page 85/60 1.002, SVG-only
+    // (0.17 mm/px) / kept (0.25 mm/px) 1.015, 400²/200² 1.026. Before print mode
+    // calibrated its ink to the tone (renderer/illustration.h, kInkCalibrationTraces)
+    // they were 1.045, 1.000 and 1.063: on this 50 mm picture of ~40 strokes one stroke
+    // is 2-5 % of the ink, and line ends and the 4 d_sep minimum length, fixed in mm,
+    // took a larger share of the smaller picture; 400²/200² was held to 8 % then.
     EXPECT_NEAR(large.inkPerMm2 / small.inkPerMm2, 1.0, 0.05);
     EXPECT_NEAR(small.inkPerMm2 / r200.inkPerMm2, 1.0, 0.05);
-    EXPECT_NEAR(r400.inkPerMm2 / r200.inkPerMm2, 1.0, 0.08);
+    EXPECT_NEAR(r400.inkPerMm2 / r200.inkPerMm2, 1.0, 0.05);
     // Every hatch path has the pen's width.
     for (const PrintRun *r : {&r200, &r400, &small, &large}) EXPECT_EQ(r->ink.widths, (std::set<std::string>{"0.3"}));
     // The measure can fail: without print mode the lengths are pixels, so the
@@ -403,8 +402,9 @@ TEST(PrintMode, InkPerMm2DoesNotGrowWithResolution) {
     // hatches 0.4-1.2 mm apart, traced at 300² (0.167 mm/px) and 800² (0.0625 mm/px).
     // Before the guard band along silhouettes kept its size in mm, the coarser grid
     // drew less in every view (the band was whole traced pixels, 1.5 style px at
-    // 300²): summed over the views 800²/300² was 1.095; now 0.994 (2026-12-02,
-    // bench/print_density; per view 0.95-1.05, the tracer's packing scatter).
+    // 300²): summed over the views 800²/300² was 1.095; then 0.994 with per view
+    // 0.955-1.049 (the tracer's packing scatter); with the ink calibrated to the tone
+    // 1.002, per view 0.980-1.024 (2026-12-02), so each view is held to 5 % too.
     const std::string pen = ", pen_width_mm: 0.15, min_spacing_mm: 0.4, max_spacing_mm: 1.2, min_length_mm: 0.5";
     double coarse = 0, fine = 0;
     for (const char *view : {"0.2, 1.0, 0.9", "1, 0.3, 0.2", "0, 1, 0.1", "0.5, 0.5, 1"}) {
@@ -412,6 +412,7 @@ TEST(PrintMode, InkPerMm2DoesNotGrowWithResolution) {
         std::printf("view [%s]: 300² %.4f, 800² %.4f mm/mm² (%.3f)\n", view, a.inkPerMm2, b.inkPerMm2,
                     b.inkPerMm2 / a.inkPerMm2);
         ASSERT_GT(a.inkPerMm2, 0.1) << view;
+        EXPECT_NEAR(b.inkPerMm2 / a.inkPerMm2, 1.0, 0.05) << view;
         coarse += a.inkPerMm2;
         fine += b.inkPerMm2;
     }
