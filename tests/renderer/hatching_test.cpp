@@ -644,3 +644,32 @@ TEST(Hatching, PrintGuardBandKeepsItsWidthAtAnyPitch) {
     }
     EXPECT_NEAR(nearest[0], nearest[1], 0.25);
 }
+
+TEST(Hatching, ToneInkIsOneLinePerSpacingOnEveryValidPixel) {
+    // Print mode's ink calibration (renderer/illustration.h) compares the drawn ink
+    // with toneInkPx(): per valid pixel, 1 / d_sep of each family that hatches.
+    const Scene s = tiltedPlane(96);
+    size_t valid = 0;
+    for (uint8_t v : s.screen.valid) valid += v != 0;
+    ASSERT_GT(valid, 1000u);
+    styles::HatchStyle st; // 1.8 px lines, spacings clamped to [3.2, 24] px
+    // One family at density 0.2: lines 1.8 / 0.2 = 9 px apart.
+    EXPECT_NEAR(toneInkPx(s.screen, s.uniformDensity(0.2f), st), double(valid) / 9.0, 1e-6 * double(valid));
+    // The gain scales the spacing before the clamp: 1.25 × 9 px; at density 0.1,
+    // 1.5 × 18 px = 27 px is clamped to maxSpacingPx.
+    st.spacingGain = 1.25;
+    EXPECT_NEAR(toneInkPx(s.screen, s.uniformDensity(0.2f), st), double(valid) / 11.25, 1e-6 * double(valid));
+    st.spacingGain = 1.5;
+    EXPECT_NEAR(toneInkPx(s.screen, s.uniformDensity(0.1f), st), double(valid) / 24.0, 1e-6 * double(valid));
+    // Below highlightDensity nothing is asked for.
+    EXPECT_EQ(toneInkPx(s.screen, s.uniformDensity(0.05f), st), 0.0);
+    // hatchInkPx() sums the hatch polylines only.
+    StrokeList list;
+    Stroke hatch, contour;
+    hatch.kind = StrokeKind::Hatch;
+    hatch.points = {Vec2(0, 0), Vec2(3, 4), Vec2(3, 10)};
+    contour.kind = StrokeKind::Contour;
+    contour.points = {Vec2(0, 0), Vec2(100, 0)};
+    list.strokes = {hatch, contour};
+    EXPECT_DOUBLE_EQ(hatchInkPx(list), 11.0);
+}
