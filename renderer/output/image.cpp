@@ -12,7 +12,10 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <iterator>
+#include <limits>
 
 namespace rosy::renderer {
 
@@ -30,6 +33,69 @@ double linearToSrgb(double linear) {
     if (linear >= 1.0) return 1.0;
     return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
+
+namespace {
+
+uint8_t srgb8ByPow(float linear) { return uint8_t(std::lround(linearToSrgb(linear) * 255.0)); }
+
+uint32_t bitsOf(float v) {
+    uint32_t u;
+    std::memcpy(&u, &v, sizeof u);
+    return u;
+}
+
+/// The steps of the 8-bit code: firstAtLeast[k - 1] is the least positive float
+/// whose srgb8ByPow() is >= k, k = 1..255, and atBucket[b] the code of the float
+/// with bit pattern b << 16 (b below that of 1.0f), from which a lookup walks up
+/// the few steps (at most one, for this curve) to its value. The code never
+/// decreases as the float grows (linearToSrgb is monotone; the test
+/// LinearToSrgb.EightBitCodesAreTheRoundedCurveForEveryFloat checks the codes around
+/// every step), and the bit patterns of positive floats are in the same order as
+/// their values, so a binary search over the patterns finds each step.
+struct Srgb8Steps {
+    static constexpr uint32_t kOne = 0x3f800000u; // 1.0f; srgb8ByPow(1.0f) = 255
+    float firstAtLeast[256];
+    uint8_t atBucket[kOne >> 16];
+    Srgb8Steps() {
+        for (int k = 1; k <= 255; ++k) {
+            uint32_t lo = 1, hi = kOne;
+            while (lo < hi) {
+                const uint32_t mid = lo + (hi - lo) / 2;
+                float v;
+                std::memcpy(&v, &mid, sizeof v);
+                if (srgb8ByPow(v) >= k)
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            std::memcpy(&firstAtLeast[k - 1], &lo, sizeof lo);
+        }
+        firstAtLeast[255] = std::numeric_limits<float>::infinity(); // no code above 255
+        for (uint32_t b = 0; b < (kOne >> 16); ++b) {
+            float v;
+            const uint32_t bits = b << 16;
+            std::memcpy(&v, &bits, sizeof v);
+            atBucket[b] = srgb8ByPow(v);
+        }
+    }
+    uint8_t operator()(float linear) const {
+        if (!(linear > 0.0f)) return 0; // also NaN
+        const uint32_t bits = bitsOf(linear);
+        if (bits >= kOne) return 255; // 1, above, +infinity
+        int code = atBucket[bits >> 16];
+        while (linear >= firstAtLeast[code]) ++code;
+        return uint8_t(code);
+    }
+};
+
+const Srgb8Steps &srgb8Steps() {
+    static const Srgb8Steps steps;
+    return steps;
+}
+
+} // namespace
+
+uint8_t linearToSrgb8(float linear) { return srgb8Steps()(linear); }
 
 namespace {
 
@@ -162,10 +228,15 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
             bytes.resize(image.data.size());
         // Rows in parallel: each value depends only on itself.
         const size_t rowValues = size_t(image.width) * size_t(image.nChannels);
+        const Srgb8Steps &srgb8 = srgb8Steps();
         parallelFor(0, image.height, [&](int64_t y) {
             for (size_t i = size_t(y) * rowValues, end = i + rowValues; i < end; ++i) {
                 int c = int(i % size_t(image.nChannels));
                 double v = image.data[i];
+                if (!sixteenBit && c != alpha) {
+                    bytes[i] = srgb8(image.data[i]); // linearToSrgb8(): the formula below, without pow()
+                    continue;
+                }
                 double e = c == alpha ? (v == v ? std::clamp(v, 0.0, 1.0) : 0.0) : linearToSrgb(v);
                 if (sixteenBit)
                     words[i] = uint16_t(std::lround(e * 65535.0));

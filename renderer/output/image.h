@@ -89,4 +89,11 @@ void writeImage(const Image &image, const std::string &path, const ImageWriteOpt
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
 double linearToSrgb(double linear);
 
+/// The 8-bit sRGB code writeImage() stores for a linear value: exactly
+/// uint8_t(std::lround(linearToSrgb(v) * 255)) for every float v (NaN and v <= 0
+/// give 0, v >= 1 gives 255), looked up in a table of the 255 least floats at
+/// which the code steps up (binary searches, once, on linearToSrgb itself) instead
+/// of a pow() per value.
+uint8_t linearToSrgb8(float linear);
+
 } // namespace rosy::renderer

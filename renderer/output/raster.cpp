@@ -264,23 +264,40 @@ InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options)
     return out;
 }
 
-std::vector<float> combinedCoverage(const InkLayers &layers, const CompositeOptions &options) {
-    const size_t n = size_t(std::max(0, layers.width)) * size_t(std::max(0, layers.height));
-    const float hidden = float(std::clamp(options.hiddenOpacity, 0.0, 1.0));
-    auto get = [n](const std::vector<float> &v, size_t i) {
+namespace {
+
+/// combinedCoverage() of one pixel (layers already checked against n).
+struct CoverageOf {
+    const InkLayers &layers;
+    size_t n;
+    float hidden;
+
+    static float get(const std::vector<float> &v, size_t i) {
         if (v.empty()) return 0.0f;
-        ROSY_CHECK_EQ(v.size(), n);
         float c = v[i];
         return c == c ? std::clamp(c, 0.0f, 1.0f) : 0.0f;
-    };
-    std::vector<float> c;
-    assignLarge(c, n, 0.0f);
-    parallelFor(0, int64_t(n), [&](int64_t i) {
-        size_t k = size_t(i);
+    }
+    float operator()(size_t k) const {
         float t = (1.0f - get(layers.hatch0, k)) * (1.0f - get(layers.hatch1, k)) *
                   (1.0f - get(layers.contour, k)) * (1.0f - hidden * get(layers.hiddenContour, k));
-        c[k] = 1.0f - t;
-    }, 4096);
+        return 1.0f - t;
+    }
+};
+
+CoverageOf coverageOf(const InkLayers &layers, const CompositeOptions &options) {
+    const size_t n = size_t(std::max(0, layers.width)) * size_t(std::max(0, layers.height));
+    for (const std::vector<float> *v : {&layers.hatch0, &layers.hatch1, &layers.contour, &layers.hiddenContour})
+        if (!v->empty()) ROSY_CHECK_EQ(v->size(), n);
+    return {layers, n, float(std::clamp(options.hiddenOpacity, 0.0, 1.0))};
+}
+
+} // namespace
+
+std::vector<float> combinedCoverage(const InkLayers &layers, const CompositeOptions &options) {
+    const CoverageOf coverage = coverageOf(layers, options);
+    std::vector<float> c;
+    assignLarge(c, coverage.n, 0.0f);
+    parallelFor(0, int64_t(coverage.n), [&](int64_t i) { c[size_t(i)] = coverage(size_t(i)); }, 4096);
     return c;
 }
 
@@ -312,27 +329,40 @@ double valueNoise(uint32_t seed, double x, double y) {
 
 } // namespace
 
+namespace {
+
+/// paperColors() of one pixel: the paper colour times the grain factor at (x, y).
+struct PaperOf {
+    const styles::Style &style;
+    double grain, scale;
+
+    PaperOf(const styles::Style &s, const CompositeOptions &options)
+        : style(s), grain(std::isfinite(s.paperGrain) ? std::clamp(s.paperGrain, 0.0, 1.0) : 0.0),
+          scale(options.grainScalePx > 0.0 ? options.grainScalePx : 1.0) {}
+    void operator()(int x, int64_t y, float rgb[3]) const {
+        double f = 1.0;
+        if (grain > 0.0) {
+            // Two octaves (the second at half the feature size, half the weight,
+            // own seed) read more like fibre than a single soft blob pattern.
+            double px = (x + 0.5) / scale, py = (double(y) + 0.5) / scale;
+            double n2 = (valueNoise(style.seed, px, py) +
+                         0.5 * valueNoise(style.seed ^ 0x5bd1e995u, 2.0 * px, 2.0 * py)) / 1.5;
+            f = 1.0 - grain * n2;
+        }
+        for (int ch = 0; ch < 3; ++ch) rgb[ch] = float(style.paper[size_t(ch)] * f);
+    }
+};
+
+} // namespace
+
 std::vector<float> paperColors(int width, int height, const styles::Style &style,
                                const CompositeOptions &options) {
     const size_t n = size_t(std::max(0, width)) * size_t(std::max(0, height));
     std::vector<float> rgb;
     assignLarge(rgb, 3 * n, 0.0f);
-    const double grain = std::isfinite(style.paperGrain) ? std::clamp(style.paperGrain, 0.0, 1.0) : 0.0;
-    const double scale = options.grainScalePx > 0.0 ? options.grainScalePx : 1.0;
+    const PaperOf paper(style, options);
     parallelFor(0, height, [&](int64_t y) {
-        for (int x = 0; x < width; ++x) {
-            double f = 1.0;
-            if (grain > 0.0) {
-                // Two octaves (the second at half the feature size, half the weight,
-                // own seed) read more like fibre than a single soft blob pattern.
-                double px = (x + 0.5) / scale, py = (double(y) + 0.5) / scale;
-                double n2 = (valueNoise(style.seed, px, py) +
-                             0.5 * valueNoise(style.seed ^ 0x5bd1e995u, 2.0 * px, 2.0 * py)) / 1.5;
-                f = 1.0 - grain * n2;
-            }
-            size_t i = size_t(y) * size_t(width) + size_t(x);
-            for (int ch = 0; ch < 3; ++ch) rgb[3 * i + size_t(ch)] = float(style.paper[size_t(ch)] * f);
-        }
+        for (int x = 0; x < width; ++x) paper(x, y, &rgb[3 * (size_t(y) * size_t(width) + size_t(x))]);
     }, 8);
     return rgb;
 }
@@ -340,16 +370,21 @@ std::vector<float> paperColors(int width, int height, const styles::Style &style
 Image compositeInk(const InkLayers &layers, const styles::Style &style, const CompositeOptions &options) {
     const int width = std::max(0, layers.width), height = std::max(0, layers.height);
     Image image(width, height, {"R", "G", "B", "A"});
-    std::vector<float> c = combinedCoverage(layers, options);
-    std::vector<float> paper = paperColors(width, height, style, options);
-    parallelFor(0, int64_t(c.size()), [&](int64_t i) {
-        size_t k = size_t(i);
-        // Mixing in linear light: 50 % ink on white paper reflects half the light.
-        for (int ch = 0; ch < 3; ++ch)
-            image.data[4 * k + size_t(ch)] =
-                float(paper[3 * k + size_t(ch)] * (1.0f - c[k]) + style.ink[size_t(ch)] * c[k]);
-        image.data[4 * k + 3] = 1.0f;
-    }, 4096);
+    // combinedCoverage() and paperColors() per pixel, without either plane in memory.
+    const CoverageOf coverage = coverageOf(layers, options);
+    const PaperOf paper(style, options);
+    parallelFor(0, height, [&](int64_t y) {
+        for (int x = 0; x < width; ++x) {
+            const size_t k = size_t(y) * size_t(width) + size_t(x);
+            const float c = coverage(k);
+            float rgb[3];
+            paper(x, y, rgb);
+            // Mixing in linear light: 50 % ink on white paper reflects half the light.
+            for (int ch = 0; ch < 3; ++ch)
+                image.data[4 * k + size_t(ch)] = float(rgb[ch] * (1.0f - c) + style.ink[size_t(ch)] * c);
+            image.data[4 * k + 3] = 1.0f;
+        }
+    }, 8);
     return image;
 }
 
