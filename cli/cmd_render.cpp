@@ -258,6 +258,8 @@ void runRender(const RenderOptions &opt) {
             json.field("min_spacing_mm", print->lengths.minSpacingMm);
             json.field("mm_per_px", print->mmPerPx);
             json.field("spacing_gain", il.spacingGain);
+            json.field("ink_fill", il.inkFill);
+            json.field("ink_at_min_spacing", il.inkAtMinSpacing);
         }
         json.key("warnings").beginObject();
         for (const auto &[kind, count] : warningCounts()) json.field(kind, count);

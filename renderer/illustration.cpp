@@ -97,8 +97,11 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         // stroke over the minimum length. So the hatching is traced again with every
         // spacing scaled by the last trace's ink over the tone's (spacingGain), twice,
         // and of the three traces the one whose ink is nearest the tone's is kept.
-        const double asked = toneInkPx(out.screen, out.targetDensity, hatchStyle);
+        double askedAtMin = 0;
+        const double asked = toneInkPx(out.screen, out.targetDensity, hatchStyle, &askedAtMin);
         double drawn = hatchInkPx(out.strokes);
+        out.inkFill = asked > 0 ? drawn / asked : 1.0;
+        out.inkAtMinSpacing = asked > 0 ? askedAtMin / asked : 0.0;
         if (asked > 0 && drawn > 0) {
             double bestError = std::abs(drawn / asked - 1.0);
             styles::HatchStyle next = hatchStyle;
@@ -109,6 +112,7 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
                 if (!(drawn > 0)) break;
                 if (std::abs(drawn / asked - 1.0) < bestError) {
                     bestError = std::abs(drawn / asked - 1.0);
+                    out.inkFill = drawn / asked;
                     out.strokes = std::move(strokes);
                     hatchStyle = next;
                 }

@@ -35,6 +35,9 @@ class RayScene;
 /// tone's is kept. The gain is held to [kMinSpacingGain, kMaxSpacingGain]: a trace
 /// far off the tone (a picture a few spacings wide) corrects the next by at most that.
 inline constexpr int kInkCalibrationTraces = 3;
+/// Print mode warns when the kept trace's ink is further than this from the tone's
+/// (Illustration::inkFill): issue 18's 5 % between pictures of one scene.
+inline constexpr double kInkFillTolerance = 0.05;
 inline constexpr double kMinSpacingGain = 0.5;
 inline constexpr double kMaxSpacingGain = 2.0;
 
@@ -71,6 +74,13 @@ struct Illustration {
     /// Print mode (HatchStyle::calibrateInk): the HatchStyle::spacingGain of the trace
     /// kept (kInkCalibrationTraces); 1 otherwise.
     double spacingGain = 1.0;
+    /// Print mode: the kept trace's hatch ink over the tone's (hatchInkPx / toneInkPx;
+    /// 1 when the tone asks for none), and the share of the tone's ink asked at or
+    /// below the densest spacing, where the calibration cannot add lines. 1 and 0
+    /// outside print mode. Off by more than kInkFillTolerance, the line density on
+    /// paper is not the tone's and depends on the picture's size (the pipeline warns).
+    double inkFill = 1.0;
+    double inkAtMinSpacing = 0.0;
     ContourReport contours;
     /// The contours between beginIllustration() and finishIllustration(), which
     /// moves them to the end of `strokes`; empty after it.

@@ -3,9 +3,11 @@
 #include "core/diagnostics.h"
 #include "renderer/field_picture.h"
 
+#include <fmt/format.h>
 #include <tbb/task_group.h>
 
 #include <chrono>
+#include <cmath>
 #include <exception>
 
 namespace rosy::scenes {
@@ -161,6 +163,31 @@ HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()>
 
 namespace {
 
+/// Print mode promises the tone's line density on paper whatever the picture's size
+/// (renderer::kInkFillTolerance). Where the calibration could not reach it because
+/// it was held back — most of the ink asked at the pen's densest spacing, which it
+/// never goes below, or its gain at a bound — say so and what to change. A trace
+/// off by the tracer's own scatter (fig1-symmetry's 105 % at gain 1) has no remedy
+/// to offer and is left to --report's ink_fill.
+void warnInkOffTheTone(const std::string &where, const renderer::Illustration &il) {
+    if (std::abs(il.inkFill - 1.0) <= renderer::kInkFillTolerance) return;
+    const bool atPenLimit = il.inkFill < 1.0 && il.inkAtMinSpacing > 0.5;
+    const bool gainHeld = (il.inkFill < 1.0 && il.spacingGain <= renderer::kMinSpacingGain) ||
+                          (il.inkFill > 1.0 && il.spacingGain >= renderer::kMaxSpacingGain);
+    if (!atPenLimit && !gainHeld) return;
+    std::string message = fmt::format("the hatching lays down {:.0f} % of the ink the tone asks for", 100.0 * il.inkFill);
+    if (atPenLimit)
+        message += fmt::format(" ({:.0f} % of that is asked at page.min_spacing_mm, the densest spacing the pen is "
+                               "given, which the calibration never goes below)",
+                               100.0 * il.inkAtMinSpacing);
+    else
+        message += fmt::format(" with every spacing scaled by {} (the calibration's bound)", il.spacingGain);
+    message += ", so its line density on paper is not the tone's and depends on the picture's size; ";
+    message += il.inkFill < 1.0 ? "use a larger page or picture, or a finer pen with a smaller page.min_spacing_mm"
+                                : "use a smaller page or picture, or a wider pen";
+    warn(where, "print", message);
+}
+
 /// renderScene() for `picture.kind: hatching`: after the load, the frames, field and
 /// singularities on this thread with what needs no field (Embree BVH, G-buffer, tone,
 /// contours) beside them (beginHatchingBeside()); then finishHatching(). The view's
@@ -182,6 +209,7 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
         out.timingsMs.emplace_back(stage, ms);
         if (options.onStage) options.onStage(stage, ms);
     }
+    if (out.print) warnInkOffTheTone(desc.path, *out.illustration);
     return out;
 }
 

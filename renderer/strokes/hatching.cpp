@@ -995,25 +995,37 @@ double localSpacingPx(double density, const styles::HatchStyle &style) {
     return familySpacingPx(density, 0, style);
 }
 
-double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style) {
+double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style,
+                 double *atMinSpacingPx) {
     ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
-    // Per row, then summed in row order: the same total for any thread count.
-    std::vector<double> rows(size_t(std::max(0, field.height)), 0.0);
+    // Per row, then summed in row order: the same totals for any thread count.
+    std::vector<std::array<double, 2>> rows(size_t(std::max(0, field.height)), {0.0, 0.0});
     parallelFor(0, field.height, [&](int64_t y) {
-        double sum = 0;
+        double sum = 0, atMin = 0;
         for (int x = 0; x < field.width; ++x) {
             const size_t i = size_t(field.index(x, int(y)));
             const double rho = clampDensity(targetDensity[i]);
             if (!field.valid[i] || hatchFamilies(rho, style) == 0) continue;
             const double w = crossWeight(field, i);
             const std::array<double, 2> c = familyCoverage(rho, style, w);
-            for (int f = 0; f < 2; ++f)
-                if (c[size_t(f)] > 0) sum += 1.0 / spacingOfCoverage(c[size_t(f)], style);
+            for (int f = 0; f < 2; ++f) {
+                if (!(c[size_t(f)] > 0)) continue;
+                const double ink = 1.0 / spacingOfCoverage(c[size_t(f)], style);
+                sum += ink;
+                // Asked at or below the densest spacing (before the clamp; the tone
+                // saturates at maxHatchDensity(), exactly there up to rounding).
+                if (style.spacingGain * style.strokeWidthPx / c[size_t(f)] <= style.minSpacingPx * (1.0 + 1e-6))
+                    atMin += ink;
+            }
         }
-        rows[size_t(y)] = sum;
+        rows[size_t(y)] = {sum, atMin};
     }, 16);
-    double total = 0;
-    for (double r : rows) total += r;
+    double total = 0, totalAtMin = 0;
+    for (const auto &r : rows) {
+        total += r[0];
+        totalAtMin += r[1];
+    }
+    if (atMinSpacingPx) *atMinSpacingPx = totalAtMin;
     return total;
 }
 

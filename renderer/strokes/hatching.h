@@ -137,8 +137,11 @@ double localSpacingPx(double density, const styles::HatchStyle &style);
 
 /// The hatch ink length (px) the tone asks for: over the valid pixels, the sum of
 /// 1 / familySpacingPx of each family that hatches there (lines per px across, per
-/// px² of picture). Deterministic for any thread count.
-double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style);
+/// px² of picture). Deterministic for any thread count. `atMinSpacingPx`, if given,
+/// receives the part of it asked at or below minSpacingPx (held there by the clamp:
+/// the pen's densest spacing, which no calibration goes below).
+double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style,
+                 double *atMinSpacingPx = nullptr);
 
 /// Total polyline length (px) of the Hatch strokes of `strokes`.
 double hatchInkPx(const StrokeList &strokes);

@@ -369,6 +369,11 @@ TEST(SceneOutputsCli, PrintModeWarnsAndReportsWhatThePipelineChose) {
     // The spacing gain of the trace kept by the ink calibration (renderer/illustration.h).
     const double gain = report.at("spacing_gain").get<double>();
     EXPECT_TRUE(gain >= 0.5 && gain <= 2.0) << gain;
+    // How near the kept trace came to the tone's ink, and how much of that was asked
+    // at the pen's densest spacing (shares; the warning's figures).
+    EXPECT_GT(report.at("ink_fill").get<double>(), 0.0);
+    const double atMin = report.at("ink_at_min_spacing").get<double>();
+    EXPECT_TRUE(atMin >= 0.0 && atMin <= 1.0) << atMin;
     EXPECT_NE(slurp(dir / "pen.svg").find("stroke-width=\"0.05\""), std::string::npos);
     // A PNG alone is not in print mode: no pen in the report.
     const CliRun png =

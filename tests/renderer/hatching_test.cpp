@@ -663,6 +663,16 @@ TEST(Hatching, ToneInkIsOneLinePerSpacingOnEveryValidPixel) {
     EXPECT_NEAR(toneInkPx(s.screen, s.uniformDensity(0.1f), st), double(valid) / 24.0, 1e-6 * double(valid));
     // Below highlightDensity nothing is asked for.
     EXPECT_EQ(toneInkPx(s.screen, s.uniformDensity(0.05f), st), 0.0);
+    // The part asked at the densest spacing: none at 9 px; at density 0.6 of one
+    // family, 1.8 / 0.6 = 3 px is held at 3.2 px, so all of it (1 / 3.2 per pixel).
+    st.spacingGain = 1.0;
+    st.crossDensity = 2.0; // one family only
+    double atMin = -1;
+    EXPECT_NEAR(toneInkPx(s.screen, s.uniformDensity(0.2f), st, &atMin), double(valid) / 9.0, 1e-6 * double(valid));
+    EXPECT_EQ(atMin, 0.0);
+    const double dense = toneInkPx(s.screen, s.uniformDensity(0.6f), st, &atMin);
+    EXPECT_NEAR(dense, double(valid) / 3.2, 1e-6 * double(valid));
+    EXPECT_EQ(atMin, dense);
     // hatchInkPx() sums the hatch polylines only.
     StrokeList list;
     Stroke hatch, contour;
