@@ -107,10 +107,24 @@ Vec3 middlePoint(const Vec3 &p0, const Vec3 &n0, const Vec3 &p1, const Vec3 &n1)
     return m + alpha * n0 + beta * n1;
 }
 
+/// N = 4: which of q1, n1×q1, −q1, −n1×q1 (0 to 3) is closest to q0 (the first
+/// of equals, as Lattice::compatOrientation). Odd: q1's lattice axes are swapped
+/// against q0's, and so are its two spacings.
+int compatIndex4(const Vec3 &q0, const Vec3 &q1, const Vec3 &n1) {
+    const double d0 = q0.dot(q1), d1 = q0.dot(n1.cross(q1));
+    int best = 0;
+    double bestDot = d0;
+    if (d1 > bestDot) bestDot = d1, best = 1;
+    if (-d0 > bestDot) bestDot = -d0, best = 2;
+    if (-d1 > bestDot) best = 3;
+    return best;
+}
+
 struct Level {
     std::vector<Vec3> p, n, q, o; ///< position, normal, orientation, lattice point
     std::vector<double> area;
-    std::vector<double> s; ///< lattice spacing (L, or L e^φ with RemeshOptions::scaleStrength)
+    std::vector<double> s;  ///< lattice spacing along q (L, or L e^{λφ + μφ_q}, RemeshOptions)
+    std::vector<double> s2; ///< lattice spacing along n×q (N = 4; the same as s for N = 6)
     std::vector<int> adjOffset, adj; ///< CSR neighbour lists, sorted
     std::vector<int> toCoarse;        ///< fine vertex -> vertex of the next level
     std::vector<char> pinned;
@@ -191,6 +205,75 @@ std::vector<double> scaleFunction(const Level &L, const std::vector<std::array<i
     return phi;
 }
 
+/// The two scale functions φ_q, φ_{n×q} of an anisotropic lattice (N = 4): spacing
+/// L e^{φ_q} along q and L e^{φ_{n×q}} along n×q. Each family's lattice coordinate
+/// du_k = e^{−φ_k} ω_k / L closes around a triangle when Σ_e e^{−φ_k,e} ω_k(e) = 0:
+/// the same linearised rows as scaleFunction, but each with its own unknown, so
+/// that both rows of every triangle can hold (a nowhere-vanishing 1-form has an
+/// integrating factor): the non-integrable part of the curl that one conformal φ
+/// leaves is absorbed too. A vertex whose q is matched to the triangle's first by
+/// an odd rotation has its two unknowns swapped. Membrane term on both; sparse
+/// Cholesky. Returns 2 nV values, φ_q and φ_{n×q} of vertex v at 2v and 2v + 1.
+std::vector<double> anisotropicScale(const Level &L, const std::vector<std::array<int, 3>> &tris) {
+    const int nV = L.size();
+    std::vector<Eigen::Triplet<double>> trip;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nV);
+    double meanEdge = 0;
+    for (const auto &t : tris)
+        for (int k = 0; k < 3; ++k) meanEdge += (L.p[t[k]] - L.p[t[(k + 1) % 3]]).norm();
+    meanEdge /= std::max<double>(1, 3.0 * double(tris.size()));
+    const double membrane = 0.1 * meanEdge * meanEdge; // as scaleFunction's (0.01: bunny00 CV 0.116, elephant 0.126)
+    const Lattice lat{4, 1};
+    for (const auto &t : tris) {
+        Vec3 q[3], w[3];
+        int parity[3];
+        for (int k = 0; k < 3; ++k) {
+            q[k] = k == 0 ? L.q[t[0]] : lat.compatOrientation(L.q[t[0]], L.q[t[k]], L.n[t[k]]);
+            parity[k] = k == 0 ? 0 : compatIndex4(L.q[t[0]], L.q[t[k]], L.n[t[k]]) & 1;
+            w[k] = L.n[t[k]].cross(q[k]);
+        }
+        double h = 0;
+        for (int k = 0; k < 3; ++k) h += (L.p[t[(k + 1) % 3]] - L.p[t[k]]).norm() / 3;
+        if (!(h > 0)) continue;
+        for (int family = 0; family < 2; ++family) {
+            double om[3], circ = 0;
+            int unknown[3];
+            for (int k = 0; k < 3; ++k) {
+                const int k1 = (k + 1) % 3;
+                const Vec3 d = family == 0 ? Vec3(q[k] + q[k1]) : Vec3(w[k] + w[k1]);
+                om[k] = 0.5 * (L.p[t[k1]] - L.p[t[k]]).dot(d) / h;
+                circ += om[k];
+                unknown[k] = 2 * t[k] + (family ^ parity[k]);
+            }
+            double row[3];
+            for (int k = 0; k < 3; ++k) row[k] = 0.5 * (om[k] + om[(k + 2) % 3]) - circ / 3;
+            for (int a = 0; a < 3; ++a) {
+                rhs[unknown[a]] += row[a] * circ;
+                for (int b = 0; b < 3; ++b) trip.emplace_back(unknown[a], unknown[b], row[a] * row[b]);
+            }
+        }
+        for (int k = 0; k < 3; ++k) { // membrane on the triangle's edges, both families
+            const int a = t[k], b = t[(k + 1) % 3];
+            const int pab = compatIndex4(L.q[a], L.q[b], L.n[b]) & 1;
+            const double m = membrane / (h * h);
+            for (int family = 0; family < 2; ++family) {
+                const int ia = 2 * a + family, ib = 2 * b + (family ^ pab);
+                trip.emplace_back(ia, ia, m), trip.emplace_back(ib, ib, m);
+                trip.emplace_back(ia, ib, -m), trip.emplace_back(ib, ia, -m);
+            }
+        }
+    }
+    for (int v = 0; v < 2 * nV; ++v) trip.emplace_back(v, v, 1e-8);
+    Eigen::SparseMatrix<double> A(2 * nV, 2 * nV);
+    A.setFromTriplets(trip.begin(), trip.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+    if (solver.info() != Eigen::Success) return std::vector<double>(2 * size_t(nV), 0.0);
+    const Eigen::VectorXd x = solver.solve(rhs);
+    std::vector<double> phi(2 * size_t(nV));
+    for (int v = 0; v < 2 * nV; ++v) phi[size_t(v)] = std::isfinite(x[v]) ? x[v] : 0.0;
+    return phi;
+}
+
 /// Sorted, duplicate-free neighbour lists (CSR) from directed pairs (a, b)
 /// given by `forEachPair(emit)`, which is called twice (count, then fill): no
 /// list per vertex is allocated.
@@ -224,7 +307,7 @@ constexpr double kMaxEdge = 0.5;
 
 Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
                   const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices, double scaleStrength,
-                  int &subdivisions) {
+                  double anisotropy, int &subdivisions) {
     const field::Mesh &mesh = frames.mesh();
     const int nV0 = mesh.nVertices();
     Level L;
@@ -240,6 +323,8 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
     }
     std::vector<std::array<int, 3>> tris(mesh.faces().begin(), mesh.faces().end());
     std::vector<double> phi = scaleStrength > 0 ? scaleFunction(L, tris, lat) : std::vector<double>(nV0, 0.0);
+    const bool aniso = anisotropy > 0 && lat.nSym == 4;
+    std::vector<double> phiA = aniso ? anisotropicScale(L, tris) : std::vector<double>(2 * size_t(nV0), 0.0);
     auto meanEdge = [&] {
         double sum = 0;
         for (const auto &t : tris)
@@ -277,6 +362,9 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             L.n.push_back(n);
             L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
             phi.push_back(0.5 * (phi[a] + phi[b]));
+            const int pb = aniso ? compatIndex4(L.q[a], L.q[b], L.n[b]) & 1 : 0; // (q is near a's)
+            phiA.push_back(0.5 * (phiA[2 * size_t(a)] + phiA[2 * size_t(b) + size_t(pb)]));
+            phiA.push_back(0.5 * (phiA[2 * size_t(a) + 1] + phiA[2 * size_t(b) + size_t(1 - pb)]));
             mid.emplace(key, id);
             return id;
         };
@@ -306,16 +394,23 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         L.adjOffset, L.adj);
     L.o = L.p;
     {
-        // Spacing L e^{λφ}, clamped to [L/2, 2L], scaled so that the number of
-        // lattice cells (Σ area / s²) stays what L everywhere gives.
+        // Spacings L e^{λφ + μφ_q} and L e^{λφ + μφ_{n×q}}, clamped to [L/2, 2L],
+        // scaled so that the number of lattice cells (Σ area / (s s2)) stays what L
+        // everywhere gives.
         L.s.resize(nV);
+        L.s2.resize(nV);
         double cells = 0, area = 0;
         for (int v = 0; v < nV; ++v) {
-            L.s[v] = std::clamp(std::exp(scaleStrength * phi[v]), 1e-3, 1e3);
-            cells += L.area[v] / (L.s[v] * L.s[v]), area += L.area[v];
+            L.s[v] = std::clamp(std::exp(scaleStrength * phi[v] + anisotropy * phiA[2 * size_t(v)]), 1e-3, 1e3);
+            L.s2[v] = aniso ? std::clamp(std::exp(scaleStrength * phi[v] + anisotropy * phiA[2 * size_t(v) + 1]), 1e-3, 1e3)
+                            : L.s[v];
+            cells += L.area[v] / (L.s[v] * L.s2[v]), area += L.area[v];
         }
         const double k = cells > 0 && area > 0 ? std::sqrt(cells / area) : 1.0;
-        for (int v = 0; v < nV; ++v) L.s[v] = lat.s * std::clamp(k * L.s[v], 0.5, 2.0);
+        for (int v = 0; v < nV; ++v) {
+            L.s[v] = lat.s * std::clamp(k * L.s[v], 0.5, 2.0);
+            L.s2[v] = lat.s * std::clamp(k * L.s2[v], 0.5, 2.0);
+        }
     }
     L.pinned.assign(nV, 0);
     // Pinning by distance, not by the singular face's corners: an input face larger
@@ -391,17 +486,23 @@ Level coarsen(Level &fine) {
             coarse.q.push_back(fine.q[rep[i]]);
             coarse.area.push_back(0);
             coarse.s.push_back(0);
+            coarse.s2.push_back(0);
         }
         fine.toCoarse[i] = id;
         coarse.p[id] += fine.p[i] * fine.area[i];
         coarse.n[id] += fine.n[i] * fine.area[i];
         coarse.area[id] += fine.area[i];
-        coarse.s[id] += fine.s[i] * fine.area[i];
+        // the cluster's axes are its first member's: a member turned by an odd
+        // rotation against them has its spacings swapped
+        const bool swap = fine.s[i] != fine.s2[i] && (compatIndex4(fine.q[rep[i]], fine.q[i], fine.n[i]) & 1);
+        coarse.s[id] += (swap ? fine.s2[i] : fine.s[i]) * fine.area[i];
+        coarse.s2[id] += (swap ? fine.s[i] : fine.s2[i]) * fine.area[i];
     }
     for (int c = 0; c < coarse.size(); ++c) {
         Vec3 &p = coarse.p[c], &nn = coarse.n[c], &q = coarse.q[c];
         p = coarse.area[c] > 0 ? Vec3(p / coarse.area[c]) : fine.p[c];
         coarse.s[c] = coarse.area[c] > 0 ? coarse.s[c] / coarse.area[c] : fine.s[c];
+        coarse.s2[c] = coarse.area[c] > 0 ? coarse.s2[c] / coarse.area[c] : fine.s2[c];
         nn = nn.norm() > 1e-300 ? Vec3(nn.normalized()) : Vec3(0, 0, 1);
         q -= nn * nn.dot(q);
         q = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(nn);
@@ -462,10 +563,12 @@ inline double roundNearest(double x) {
 
 /// The point of the square lattice (origin o, axes q and w = n×q, spacing s,
 /// invS = 1 / s) nearest p: Lattice::roundPoint for N = 4, with w given.
-inline Vec3 roundSquare(const Vec3 &o, const Vec3 &q, const Vec3 &w, double s, double invS, const Vec3 &p) {
+/// With spacings s along q and s2 along w (invS2 = 1 / s2).
+inline Vec3 roundSquare(const Vec3 &o, const Vec3 &q, const Vec3 &w, double s, double invS, double s2, double invS2,
+                        const Vec3 &p) {
     const Vec3 d = p - o;
-    const double cx = q.dot(d) * invS, cy = w.dot(d) * invS;
-    return o + roundNearest(cx) * s * q + roundNearest(cy) * s * w;
+    const double cx = q.dot(d) * invS, cy = w.dot(d) * invS2;
+    return o + roundNearest(cx) * s * q + roundNearest(cy) * s2 * w;
 }
 
 /// One Gauss–Seidel sweep of the position field over a level, colour by colour;
@@ -495,8 +598,8 @@ void smoothPositions(Level &L, const Lattice &lat, const std::vector<std::vector
 /// What a sweep reads of one vertex, in two cache lines (a Level's separate
 /// arrays cost a cache miss each per neighbour on the large levels).
 struct alignas(64) SweepNode {
-    Vec3 p, n, q, w, o; ///< position, normal, orientation, n×q, lattice point
-    double s;           ///< lattice spacing
+    Vec3 p, n, q, o; ///< position, normal, orientation, lattice point
+    double s, s2;    ///< lattice spacings along q and n×q
 };
 
 /// A 63-bit Morton code of p in the box [lo, lo + 1/scale]³ (21 bits per axis).
@@ -541,7 +644,7 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
     std::vector<int> offset(size_t(n) + 1, 0), adj(L.adj.size());
     for (int k = 0; k < n; ++k) {
         const int i = order[size_t(k)].second;
-        nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.n[i].cross(L.q[i]), L.o[i], L.s[i]};
+        nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.o[i], L.s[i], L.s2[i]};
         offset[size_t(k) + 1] = offset[size_t(k)] + (L.adjOffset[i + 1] - L.adjOffset[i]);
         for (int a = L.adjOffset[i], b = offset[size_t(k)]; a < L.adjOffset[i + 1]; ++a, ++b) // neighbour order kept
             adj[size_t(b)] = slot[size_t(L.adj[a])];
@@ -559,37 +662,39 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
     // the two chains are independent, so the processor overlaps them.
     struct Update {
         SweepNode *a;
-        Vec3 o;
-        double weight, invS;
+        Vec3 o, w;
+        double weight, invS, invS2;
         int k, end;
     };
     auto start = [&](int i) {
         SweepNode &a = nodes[size_t(i)];
-        return Update{&a, a.o, 0.0, 1 / a.s, offset[size_t(i)], offset[size_t(i) + 1]};
+        return Update{&a, a.o, a.n.cross(a.q), 0.0, 1 / a.s, 1 / a.s2, offset[size_t(i)], offset[size_t(i) + 1]};
     };
     auto step = [&](Update &u) {
         const SweepNode &a = *u.a;
         const SweepNode &b = nodes[size_t(adj[size_t(u.k++)])];
         const Vec3 &nrm = a.n, &q = a.q;
         // Lattice::compatOrientation: of b.q, b.w, −b.q, −b.w the first closest to q
-        const double d0 = q.dot(b.q), d1 = q.dot(b.w);
+        const Vec3 bw = b.n.cross(b.q);
+        const double d0 = q.dot(b.q), d1 = q.dot(bw);
         int best = 0;
         double bestDot = d0;
         if (d1 > bestDot) bestDot = d1, best = 1;
         if (-d0 > bestDot) bestDot = -d0, best = 2;
         if (-d1 > bestDot) best = 3;
-        const Vec3 qj = best == 0 ? b.q : best == 1 ? b.w : best == 2 ? Vec3(-b.q) : Vec3(-b.w);
+        const Vec3 qj = best == 0 ? b.q : best == 1 ? bw : best == 2 ? Vec3(-b.q) : Vec3(-bw);
         const Vec3 wj = b.n.cross(qj);
+        const double sj = best & 1 ? b.s2 : b.s, sj2 = best & 1 ? b.s : b.s2; // along qj, wj
         // compatPosition: our lattice point nearest the planes' middle point, theirs nearest that
-        const Vec3 c0 = roundSquare(u.o, q, a.w, a.s, u.invS, middlePoint(a.p, nrm, b.p, b.n));
-        const Vec3 cj = roundSquare(b.o, qj, wj, b.s, 1 / b.s, c0);
+        const Vec3 c0 = roundSquare(u.o, q, u.w, a.s, u.invS, a.s2, u.invS2, middlePoint(a.p, nrm, b.p, b.n));
+        const Vec3 cj = roundSquare(b.o, qj, wj, sj, 1 / sj, sj2, 1 / sj2, c0);
         u.o = (c0 * u.weight + cj) / (u.weight + 1);
         u.weight += 1;
         u.o -= nrm * nrm.dot(u.o - a.p);
     };
     auto finish = [&](Update &u) {
         while (u.k < u.end) step(u);
-        u.a->o = roundSquare(u.o, u.a->q, u.a->w, u.a->s, u.invS, u.a->p);
+        u.a->o = roundSquare(u.o, u.a->q, u.w, u.a->s, u.invS, u.a->s2, u.invS2, u.a->p);
     };
     for (int it = 0; it < sweeps; ++it)
         for (const std::vector<int> &cls : slotClasses)
@@ -605,6 +710,30 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
                 finish(v);
             }, 256);
     for (int k = 0; k < n; ++k) L.o[size_t(order[size_t(k)].second)] = nodes[size_t(k)].o;
+}
+
+/// N = 4: the integer offset of edge i -> j for the extraction, j's lattice point
+/// minus i's in i's lattice (compatPosition and Lattice::roundIndex with a spacing
+/// per axis: the same arithmetic, so the same result when the two are equal).
+Eigen::Vector2i squareOffset(const Level &F, int i, int j) {
+    const int rot = compatIndex4(F.q[i], F.q[j], F.n[j]);
+    const Vec3 wjOwn = F.n[j].cross(F.q[j]);
+    const Vec3 qj = rot == 0 ? F.q[j] : rot == 1 ? wjOwn : rot == 2 ? Vec3(-F.q[j]) : Vec3(-wjOwn);
+    const double sj = rot & 1 ? F.s2[j] : F.s[j], sj2 = rot & 1 ? F.s[j] : F.s2[j];
+    const Vec3 wi = F.n[i].cross(F.q[i]), wj = F.n[j].cross(qj);
+    auto coords = [](const Vec3 &d, const Vec3 &q, const Vec3 &w, double s, double s2) {
+        return Eigen::Vector2d(q.dot(d) / s, w.dot(d) / s2);
+    };
+    auto nearest = [&](const Vec3 &o, const Vec3 &q, const Vec3 &w, double s, double s2, const Vec3 &p) {
+        const Eigen::Vector2d c = coords(p - o, q, w, s, s2);
+        return Vec3(o + std::round(c.x()) * s * q + std::round(c.y()) * s2 * w);
+    };
+    const Vec3 m = middlePoint(F.p[i], F.n[i], F.p[j], F.n[j]);
+    const Vec3 oi = nearest(F.o[i], F.q[i], wi, F.s[i], F.s2[i], m);
+    const Vec3 oj = nearest(F.o[j], qj, wj, sj, sj2, oi);
+    const Eigen::Vector2d ki = coords(F.o[i] - oi, F.q[i], wi, F.s[i], F.s2[i]);
+    const Eigen::Vector2d kj = coords(F.o[j] - oj, qj, wj, sj, sj2);
+    return {int(std::lround(kj.x())) - int(std::lround(ki.x())), int(std::lround(kj.y())) - int(std::lround(ki.y()))};
 }
 
 /// N = 4: two triangles sharing an edge become one quad (their union), greedily in
@@ -966,7 +1095,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         for (const field::Singularity &sg : singularities.singularities)
             if (std::abs(sg.indexNumerator) == 1) pinFaces.emplace_back(sg.face, sg.position);
     int subdivisions = 0;
-    levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices, options.scaleStrength, subdivisions));
+    levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices, options.scaleStrength,
+                                 options.anisotropicScale, subdivisions));
     result.repairs["input_subdivisions"] = subdivisions;
     while (levels.back().size() > 64 && levels.size() < 40) {
         Level next = coarsen(levels.back());
@@ -1012,12 +1142,12 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
             const int j = F.adj[k];
             if (j <= i) continue;
-            const Vec3 qj = lat.compatOrientation(F.q[i], F.q[j], F.n[j]);
-            const Lattice li{lat.nSym, F.s[i]}, lj{lat.nSym, F.s[j]};
-            const auto [oi, oj] = compatPosition(li, lj, F.p[i], F.n[i], F.q[i], F.o[i], F.p[j], F.n[j], qj, F.o[j]);
-            const Eigen::Vector2i ki = li.roundIndex(F.o[i] - oi, F.q[i], F.n[i]);
-            const Eigen::Vector2i kj = lj.roundIndex(F.o[j] - oj, qj, F.n[j]);
-            const Eigen::Vector2i d = kj - ki;
+            const Eigen::Vector2i d = lat.nSym == 4 ? squareOffset(F, i, j) : [&] {
+                const Vec3 qj = lat.compatOrientation(F.q[i], F.q[j], F.n[j]);
+                const Lattice li{lat.nSym, F.s[i]}, lj{lat.nSym, F.s[j]};
+                const auto [oi, oj] = compatPosition(li, lj, F.p[i], F.n[i], F.q[i], F.o[i], F.p[j], F.n[j], qj, F.o[j]);
+                return Eigen::Vector2i(lj.roundIndex(F.o[j] - oj, qj, F.n[j]) - li.roundIndex(F.o[i] - oi, F.q[i], F.n[i]));
+            }();
             if (d.x() == 0 && d.y() == 0) uf.unite(i, j);
             else if (lat.isUnit(d)) unitEdges.emplace_back(i, j);
         }

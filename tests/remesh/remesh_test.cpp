@@ -26,7 +26,8 @@ struct Remeshed {
 };
 
 Remeshed run(const Mesh &mesh, int nSym, double relativeEdge, bool separatrices = true,
-             field::FieldSource source = field::FieldSource::Curvature, double adaptiveScale = 0) {
+             field::FieldSource source = field::FieldSource::Curvature, double adaptiveScale = 0,
+             double anisotropicScale = RemeshOptions{}.anisotropicScale) {
     const field::TangentFrames frames(mesh);
     field::FieldSpec spec;
     spec.nSym = nSym;
@@ -40,6 +41,7 @@ Remeshed run(const Mesh &mesh, int nSym, double relativeEdge, bool separatrices 
     opt.edgeLength = relativeEdge * (hi - lo).norm();
     opt.separatrices = separatrices;
     opt.scaleStrength = adaptiveScale;
+    opt.anisotropicScale = anisotropicScale;
     out.result = remesh(frames, fr.field, out.singularities, opt);
     out.quality = measureQuality(out.result.positions, out.result.polygons, frames, fr.field, out.singularities,
                                  opt.edgeLength);
@@ -112,6 +114,49 @@ TEST(Remesh, AdaptiveScaleAbsorbsTheTorusDislocations) {
     ASSERT_GT(nOuter, 0);
     ASSERT_GT(nInner, 0);
     EXPECT_GT((outer / nOuter) / (inner / nInner), 1.3);
+}
+
+TEST(Remesh, AnisotropicScaleRemovesTheTorusDislocationsAlongTheParallels) {
+    // On the torus the curvature field's lines are the parallels (length 2πρ) and
+    // the meridians (length 2πr everywhere). A lattice whose spacing along the
+    // parallels grows with ρ and along the meridians stays L needs no dislocation:
+    // each family's coordinate closes (φ_q = log ρ, φ_{n×q} constant). So with the
+    // anisotropic scale (μ = 2, below) the irregular vertices should be a small part
+    // of the 2 · 4πr / L dislocations a lattice of one spacing needs, parallel
+    // edges longer outside than inside about as the radii, meridian edges not.
+    // μ = 2 because the scale solve's membrane term (smoothness) shrinks φ to
+    // about half of log ρ (μ = 1: outer / inner parallel edges 1.37, 70 irregular).
+    const double R = 1.0, r = 0.45;
+    const Mesh torus = field::makeTorus(R, r, 96, 40);
+    const Remeshed uniform = run(torus, 4, 0.03, false, field::FieldSource::Curvature, 0, 0);
+    const Remeshed scaled = run(torus, 4, 0.03, false, field::FieldSource::Curvature, 0, 2);
+    expectValidClosed(scaled.quality, 0);
+    const double needed = 2 * 4 * M_PI * r / uniform.quality.edgeLength;
+    EXPECT_GE(uniform.quality.irregularVertices, 0.5 * needed); // the mechanism is there without the scale
+    EXPECT_LE(scaled.quality.irregularVertices, 0.5 * needed) << uniform.quality.irregularVertices << " without";
+    EXPECT_GE(scaled.quality.regularFaceFraction, 0.95);
+    EXPECT_LE(scaled.quality.angleDevP90Deg, uniform.quality.angleDevP90Deg);
+    // Edges by direction (azimuthal: along a parallel) and side of the tube.
+    double sum[2][2] = {{0, 0}, {0, 0}};
+    int count[2][2] = {{0, 0}, {0, 0}};
+    const auto &P = scaled.result.positions;
+    for (const auto &poly : scaled.result.polygons)
+        for (size_t k = 0; k < poly.size(); ++k) {
+            const Vec3 a = P[poly[k]], b = P[poly[(k + 1) % poly.size()]], m = 0.5 * (a + b);
+            const double rho = std::hypot(m.x(), m.y());
+            const int side = rho > R + 0.5 * r ? 1 : rho < R - 0.5 * r ? 0 : -1;
+            if (side < 0) continue;
+            const Vec3 azimuth(-m.y() / rho, m.x() / rho, 0);
+            const double len = (a - b).norm();
+            const int parallel = std::abs((b - a).dot(azimuth)) > 0.7 * len ? 1 : 0;
+            sum[parallel][side] += len, ++count[parallel][side];
+        }
+    for (const auto &c : count)
+        for (int n : c) ASSERT_GT(n, 0);
+    const double parallelRatio = (sum[1][1] / count[1][1]) / (sum[1][0] / count[1][0]);
+    const double meridianRatio = (sum[0][1] / count[0][1]) / (sum[0][0] / count[0][0]);
+    EXPECT_GT(parallelRatio, 1.5); // the radii's ratio there is about 1.9
+    EXPECT_NEAR(meridianRatio, 1.0, 0.2);
 }
 
 TEST(Remesh, SphereKeepsEulerCharacteristicAndIrregularVerticesAtSingularities) {
