@@ -494,9 +494,9 @@ Level coarsen(Level &fine) {
         coarse.area[id] += fine.area[i];
         // the cluster's axes are its first member's: a member turned by an odd
         // rotation against them has its spacings swapped
-        const bool swap = fine.s[i] != fine.s2[i] && (compatIndex4(fine.q[rep[i]], fine.q[i], fine.n[i]) & 1);
-        coarse.s[id] += (swap ? fine.s2[i] : fine.s[i]) * fine.area[i];
-        coarse.s2[id] += (swap ? fine.s[i] : fine.s2[i]) * fine.area[i];
+        const bool swapped = fine.s[i] != fine.s2[i] && (compatIndex4(fine.q[rep[i]], fine.q[i], fine.n[i]) & 1);
+        coarse.s[id] += (swapped ? fine.s2[i] : fine.s[i]) * fine.area[i];
+        coarse.s2[id] += (swapped ? fine.s[i] : fine.s2[i]) * fine.area[i];
     }
     for (int c = 0; c < coarse.size(); ++c) {
         Vec3 &p = coarse.p[c], &nn = coarse.n[c], &q = coarse.q[c];
