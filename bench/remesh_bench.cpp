@@ -1,7 +1,8 @@
 // The remesher (docs/remeshing.md) on bunny00 at L = 1 % of the bounding-box
 // diagonal, against the field stage it starts from, measured in the same run:
 // BM_FieldStage is buildField() + findSingularities() with the default spec (what
-// `rosyhatch remesh` runs before remeshing); BM_Remesh and BM_Quality report
+// `rosyhatch remesh` runs before remeshing); BM_Remesh (/3: the default
+// anisotropic scale μ = 0.3, /0: without it) and BM_Quality report
 // their time also as `x_field`, a multiple of the field stage's median measured
 // just before them in this process.
 #include "field/field_builder.h"
@@ -65,10 +66,13 @@ static void BM_FieldStage(benchmark::State &state) {
 }
 BENCHMARK(BM_FieldStage)->Unit(benchmark::kMillisecond);
 
+// Argument: the anisotropic scale μ in tenths (3: the default 0.3; 0: one
+// spacing L, no scale solve), so the solve's cost is read off the same run.
 static void BM_Remesh(benchmark::State &state) {
     Bunny &b = bunny();
     remesh::RemeshOptions opt;
     opt.edgeLength = b.edgeLength;
+    opt.anisotropicScale = 0.1 * double(state.range(0));
     double ms = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -77,7 +81,7 @@ static void BM_Remesh(benchmark::State &state) {
     }
     reportRatio(state, ms);
 }
-BENCHMARK(BM_Remesh)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Remesh)->Arg(3)->Arg(0)->Unit(benchmark::kMillisecond);
 
 static void BM_Quality(benchmark::State &state) {
     Bunny &b = bunny();
