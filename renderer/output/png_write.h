@@ -5,11 +5,16 @@
 /// ~270 shared libraries costs more CPU time than the whole hatching stage of the
 /// default scene (docs/benchmarks.md, "Whole process").
 ///
-/// The file is the same bytes OpenImageIO 2.4's PNG writer produces for the spec
-/// writeImage() builds (tests/renderer/png_write_test.cpp checks that on several
-/// images): libpng's default adaptive filters, zlib level 6 with the default
-/// strategy, 8 KiB IDAT chunks, then gAMA/sRGB/cHRM (sRGB, absolute intent), a
-/// zero oFFs and the tEXt `oiio:ColorSpace` = `sRGB`.
+/// Up to 256 KiB of filtered rows the file is the same bytes OpenImageIO 2.4's PNG
+/// writer produces for the spec writeImage() builds (tests/renderer/image_test.cpp
+/// checks that on several images): libpng's default adaptive filters, zlib level 6
+/// with the default strategy, 8 KiB IDAT chunks, then gAMA/sRGB/cHRM (sRGB, absolute
+/// intent), a zero oFFs and the tEXt `oiio:ColorSpace` = `sRGB`. Larger images (a
+/// 1024² render) have the same chunks, pixels and filtered rows (libpng's filter
+/// choice, row by row), but their rows are filtered and deflated in segments of
+/// 256 KiB in parallel, each primed with the 32 KiB before it: a valid zlib stream
+/// of other bytes (a 1024² render's file about 0.2 % smaller), the same at every
+/// thread count; the encoder's wall time about halves on two cores.
 
 #include <cstddef>
 #include <cstdint>

@@ -5,6 +5,8 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstring>
@@ -299,6 +301,100 @@ TEST(WriteImage, PngIsTheFileOpenImageIoWrites) {
     }
 }
 
+namespace {
+
+/// A PNG's chunks in file order: (type, data), each CRC checked.
+std::vector<std::pair<std::string, std::string>> pngChunks(const std::string &file) {
+    std::vector<std::pair<std::string, std::string>> out;
+    EXPECT_EQ(file.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+    for (size_t at = 8; at + 12 <= file.size();) {
+        const auto *p = reinterpret_cast<const unsigned char *>(file.data() + at);
+        const size_t n = size_t(p[0]) << 24 | size_t(p[1]) << 16 | size_t(p[2]) << 8 | size_t(p[3]);
+        if (at + 12 + n > file.size()) break;
+        const uLong crc = crc32(0, p + 4, uInt(4 + n));
+        const unsigned char *c = p + 8 + n;
+        EXPECT_EQ(crc, uLong(c[0]) << 24 | uLong(c[1]) << 16 | uLong(c[2]) << 8 | uLong(c[3]));
+        out.emplace_back(file.substr(at + 4, 4), file.substr(at + 8, n));
+        at += 12 + n;
+    }
+    return out;
+}
+
+/// The zlib stream of all IDAT chunks inflated (the filtered rows), and the other chunks.
+std::pair<std::string, std::vector<std::pair<std::string, std::string>>> pngParts(const std::string &file,
+                                                                                size_t rawBytes) {
+    std::string stream;
+    std::vector<std::pair<std::string, std::string>> others;
+    for (const auto &chunk : pngChunks(file))
+        if (chunk.first == "IDAT") stream += chunk.second;
+        else others.push_back(chunk);
+    std::string raw(rawBytes + 1, '\0'); // one more: a longer stream shows as a size mismatch
+    uLongf n = uLongf(raw.size());
+    EXPECT_EQ(uncompress(reinterpret_cast<Bytef *>(raw.data()), &n,
+                         reinterpret_cast<const Bytef *>(stream.data()), uLong(stream.size())),
+              Z_OK);
+    raw.resize(n);
+    return {raw, others};
+}
+
+} // namespace
+
+TEST(WritePng, LargeImagesAreCompressedInSegmentsWithLibpngsFilters) {
+    // Above 256 KiB of filtered rows the image data is filtered and deflated in
+    // segments in parallel (png_write.cpp). The file must still hold the same pixels
+    // as OpenImageIO's (libpng's) file, the same chunks besides IDAT, the same
+    // filtered rows (libpng's filter choice, row by row), and be the same bytes at
+    // any thread count.
+    for (const int nc : {1, 3, 4}) {
+        const int w = 517, h = 613; // several segments, rows not dividing them evenly
+        std::vector<uint8_t> pixels(size_t(w) * size_t(h) * size_t(nc));
+        for (size_t i = 0; i < pixels.size(); ++i) {
+            const size_t p = i / size_t(nc), x = p % size_t(w), y = p / size_t(w);
+            const uint8_t noise = uint8_t((i * 2654435761u) >> 11);
+            // Bands of gradients, noise, flat paper and thin strokes: every filter wins somewhere.
+            const size_t band = (y / 37) % 4;
+            pixels[i] = band == 0 ? uint8_t(x + 3 * y + 11 * (i % size_t(nc)))
+                        : band == 1 ? noise
+                        : band == 2 ? uint8_t(250)
+                                    : uint8_t((x + y) % 9 == 0 ? 20 : 245);
+        }
+        std::vector<unsigned char> ours, oneThread;
+        std::string error;
+        ASSERT_TRUE(encodePng8(w, h, nc, pixels.data(), ours, error)) << error;
+        {
+            tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+            ASSERT_TRUE(encodePng8(w, h, nc, pixels.data(), oneThread, error)) << error;
+        }
+        EXPECT_TRUE(ours == oneThread) << nc;
+        const fs::path dir = freshDir("png-large-" + std::to_string(nc));
+        const fs::path file = dir / "ours.png", theirs = dir / "oiio.png";
+        std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char *>(ours.data()),
+                                                    std::streamsize(ours.size()));
+        const ReadBack stored = readBack(file);
+        ASSERT_EQ(stored.spec.width, w);
+        ASSERT_EQ(stored.spec.nchannels, nc);
+        EXPECT_TRUE(stored.bytes == pixels) << nc;
+        OIIO::ImageSpec spec(w, h, nc, OIIO::TypeDesc::UINT8);
+        spec.attribute("DateTime", "");
+        spec.attribute("oiio:ColorSpace", "sRGB");
+        if (nc == 4) {
+            spec.channelnames = {"R", "G", "B", "A"};
+            spec.alpha_channel = 3;
+            spec.attribute("oiio:UnassociatedAlpha", 1);
+        }
+        auto out = OIIO::ImageOutput::create("png");
+        ASSERT_TRUE(out && out->open(theirs.string(), spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+        ASSERT_TRUE(out->close());
+        const size_t rawBytes = size_t(h) * (size_t(w) * size_t(nc) + 1);
+        ASSERT_GT(rawBytes, size_t(256) << 10) << "the premise: more than one segment";
+        const auto a = pngParts(slurp(file), rawBytes), b = pngParts(slurp(theirs), rawBytes);
+        EXPECT_EQ(a.first.size(), rawBytes);
+        EXPECT_TRUE(a.first == b.first) << nc << ": the filtered rows differ from libpng's";
+        EXPECT_TRUE(a.second == b.second) << nc << ": the chunks besides IDAT differ";
+    }
+}
+
 TEST(WritePng, LibpngErrorsComeBackAsMessages) {
     // libpng reports errors by longjmp into encodePng8(); each exit must come back as
     // false with a message, the file in memory kept within its bound
@@ -318,6 +414,17 @@ TEST(WritePng, LibpngErrorsComeBackAsMessages) {
     }
     ASSERT_TRUE(encodePng8(64, 48, 3, pixels.data(), bounded, error, full.size())) << error;
     EXPECT_TRUE(bounded == full);
+    // The same bound cuts in a large image's data, compressed in segments (its IDAT
+    // chunks written through libpng as well).
+    std::vector<uint8_t> large(400 * 300 * 3);
+    for (size_t i = 0; i < large.size(); ++i) large[i] = uint8_t((i * 2654435761u) >> 13);
+    ASSERT_TRUE(encodePng8(400, 300, 3, large.data(), full, error)) << error;
+    for (size_t bound : {size_t(100), full.size() / 2, full.size() - 1}) {
+        error.clear();
+        EXPECT_FALSE(encodePng8(400, 300, 3, large.data(), bounded, error, bound)) << bound;
+        EXPECT_EQ(error, "PNG: the encoded image is larger than its bound") << bound;
+        EXPECT_LE(bounded.size(), bound);
+    }
     // A side over libpng's limit (10^6) is rejected in png_set_IHDR, before any row
     // is read: the one row of pixels given is never touched past its end.
     error.clear();
