@@ -3,8 +3,10 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -66,9 +68,17 @@ Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
         std::vector<int> fill(outStart.begin(), outStart.end() - 1);
         for (int h = 0; h < nH; ++h) out[fill[tailOf(h)]++] = {headOf(h), h};
     }
-    for (int v = 0; v < nV; ++v) {
+    // Buckets sorted in parallel; a repeated edge is then named for the first vertex
+    // that has one, as a loop in vertex order would.
+    std::atomic<bool> repeated{false};
+    parallelFor(0, nV, [&](int64_t v) {
         const auto first = out.begin() + outStart[v], last = out.begin() + outStart[v + 1];
         std::sort(first, last);
+        for (auto it = first; it + 1 < last; ++it)
+            if (it->first == (it + 1)->first) repeated = true;
+    }, 1024);
+    for (int v = 0; repeated && v < nV; ++v) {
+        const auto first = out.begin() + outStart[v], last = out.begin() + outStart[v + 1];
         for (auto it = first; it + 1 < last; ++it)
             if (it->first == (it + 1)->first)
                 throw InputError(loc,
@@ -79,13 +89,13 @@ Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
                                  "load it through loadMesh() to repair it");
     }
     m.m_twin.assign(nH, -1);
-    for (int h = 0; h < nH; ++h) {
+    parallelFor(0, nH, [&](int64_t h) {
         // The twin of a -> b is b -> a: look for head a among b's outgoing halfedges.
-        const int a = tailOf(h), b = headOf(h);
+        const int a = tailOf(int(h)), b = headOf(int(h));
         const auto first = out.begin() + outStart[b], last = out.begin() + outStart[b + 1];
         const auto it = std::lower_bound(first, last, std::pair<int, int>(a, -1));
-        if (it != last && it->first == a) m.m_twin[h] = it->second;
-    }
+        if (it != last && it->first == a) m.m_twin[size_t(h)] = it->second;
+    }, 4096);
 
     // Edges: one id per halfedge pair, numbered in halfedge order (deterministic).
     m.m_halfedgeEdge.assign(nH, -1);
@@ -116,10 +126,14 @@ Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
     }
     m.m_ring.resize(nH);
     m.m_boundaryVertex.assign(nV, 0);
-    for (int v = 0; v < nV; ++v) {
-        if (anyOut[v] < 0)
-            throw InputError(loc, "vertex " + std::to_string(v) + " is not used by any face",
-                             "remove isolated vertices or load through loadMesh()");
+    // Each vertex's ring in parallel; the first vertex in order that fails is named.
+    std::atomic<int> firstBad{nV};
+    parallelFor(0, nV, [&](int64_t vi) {
+        const int v = int(vi);
+        if (anyOut[v] < 0) {
+            for (int seen = firstBad.load(); v < seen && !firstBad.compare_exchange_weak(seen, v);) {}
+            return;
+        }
         int start = boundaryOut[v] >= 0 ? boundaryOut[v] : anyOut[v];
         m.m_boundaryVertex[v] = boundaryOut[v] >= 0;
         int n = 0, h = start;
@@ -130,9 +144,15 @@ Mesh Mesh::fromTriangles(std::vector<Vec3> positions, std::vector<Face> faces,
             h = m.m_twin[prev(h)];
         } while (h >= 0 && h != start);
         if (n != expected)
-            throw InputError(loc, "vertex " + std::to_string(v) +
-                                      " is non-manifold (its faces form more than one fan)",
-                             "load it through loadMesh() to split it");
+            for (int seen = firstBad.load(); v < seen && !firstBad.compare_exchange_weak(seen, v);) {}
+    }, 1024);
+    if (const int v = firstBad.load(); v < nV) {
+        if (anyOut[v] < 0)
+            throw InputError(loc, "vertex " + std::to_string(v) + " is not used by any face",
+                             "remove isolated vertices or load through loadMesh()");
+        throw InputError(loc, "vertex " + std::to_string(v) +
+                                  " is non-manifold (its faces form more than one fan)",
+                         "load it through loadMesh() to split it");
     }
     m.m_positions = std::move(positions);
     m.m_faces = std::move(faces);

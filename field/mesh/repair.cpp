@@ -5,8 +5,12 @@
 #include "field/mesh/mesh_scan.h"
 #include "field/mesh/union_find.h"
 
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <array>
+#include <exception>
 #include <numeric>
 
 // Repair of a polygon soup into a clean Mesh, as a sequence of named steps
@@ -209,7 +213,7 @@ std::vector<int> mergeIdenticalVertices(const std::vector<Vec3> &positions, std:
         if (p.z() != q.z()) return p.z() < q.z();
         return a < b;
     };
-    std::sort(order.begin(), order.end(), less);
+    tbb::parallel_sort(order.begin(), order.end(), less); // a total order: the result is unique
     std::vector<int> representative(nV);
     for (int i = 0; i < nV; ++i) {
         if (i > 0 && positions[order[i]] == positions[order[i - 1]]) {
@@ -253,7 +257,7 @@ void dropDuplicateFaces(std::vector<Face> &tris, LoadReport &rep) {
         std::sort(s.begin(), s.end());
         sorted[f] = {s, f};
     }
-    std::sort(sorted.begin(), sorted.end());
+    tbb::parallel_sort(sorted.begin(), sorted.end()); // keys unique (face index last)
     std::vector<uint8_t> drop(tris.size(), 0);
     for (size_t i = 1; i < sorted.size(); ++i)
         if (sorted[i].first == sorted[i - 1].first) {
@@ -415,14 +419,37 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
                                   std::string(polygons.empty() ? "" : " left after dropping degenerate ones"),
                          "a surface mesh needs at least one triangle");
 
-    countNonManifoldElements(positions, tris, rep);
+    // Counting the non-manifold elements and orienting the faces read the same
+    // triangles: they run at once, the orientation on a copy. When nothing is split
+    // (the usual case) the copy is the result (dropping unused vertices only renames
+    // them, which changes no flip and no message); otherwise it is thrown away and
+    // the steps run in their order.
+    std::vector<Face> oriented;
+    LoadReport orientation;
+    std::exception_ptr orientationError;
+    tbb::parallel_invoke([&] { countNonManifoldElements(positions, tris, rep); },
+                         [&] {
+                             oriented = tris;
+                             try {
+                                 orientFacesConsistently(oriented, loc, orientation);
+                             } catch (const InputError &) {
+                                 orientationError = std::current_exception();
+                             }
+                         });
     report(name, options, "nonmanifold-edges", rep.nonManifoldEdgesSplit,
            "edges shared by more than two faces", "extra faces split off onto duplicated vertices");
     report(name, options, "nonmanifold-vertices", rep.nonManifoldVerticesSplit,
            "non-manifold vertices (several fans)", "duplicated once per fan");
-    if (rep.nonManifoldEdgesSplit > 0 || rep.nonManifoldVerticesSplit > 0) splitNonManifoldElements(positions, tris);
-    compactVertices(positions, tris);
-    orientFacesConsistently(tris, loc, rep);
+    if (rep.nonManifoldEdgesSplit > 0 || rep.nonManifoldVerticesSplit > 0) {
+        splitNonManifoldElements(positions, tris);
+        compactVertices(positions, tris);
+        orientFacesConsistently(tris, loc, rep);
+    } else {
+        if (orientationError) std::rethrow_exception(orientationError);
+        tris = std::move(oriented);
+        rep.facesReoriented = orientation.facesReoriented;
+        compactVertices(positions, tris);
+    }
     report(name, options, "reoriented-faces", rep.facesReoriented,
            "faces with inconsistent orientation", "flipped to agree with their neighbours");
 

@@ -36,6 +36,67 @@ TEST(MeshFromTriangles, TwinIsAnInvolutionWithSwappedEnds) {
     }
 }
 
+namespace {
+
+/// The message of the InputError fromTriangles() throws, or "" when it builds.
+std::string buildError(std::vector<Vec3> positions, std::vector<Face> faces) {
+    try {
+        Mesh::fromTriangles(std::move(positions), std::move(faces), "m");
+    } catch (const InputError &e) {
+        return e.what();
+    }
+    return "";
+}
+
+} // namespace
+
+TEST(MeshFromTriangles, NamesTheFirstBadVertexInOrderOnLargeMeshes) {
+    // fromTriangles() checks vertices in parallel (in chunks of 1024); its message
+    // must still name the first bad vertex, as a loop in vertex order would.
+    const Mesh grid = makeGrid(80); // 6,561 vertices
+    const int nV = grid.nVertices();
+    ASSERT_GT(nV, 4 * 1024);
+    // Unused vertices: copies inserted at 1500 and 5000 (faces re-indexed past them).
+    auto withUnused = [&](std::vector<int> at) {
+        std::vector<Vec3> positions;
+        std::vector<int> newIndex(static_cast<size_t>(nV));
+        for (int v = 0, k = 0; v < nV; ++v) {
+            while (k < int(at.size()) && int(positions.size()) == at[size_t(k)]) {
+                positions.push_back(grid.position(v));
+                ++k;
+            }
+            newIndex[size_t(v)] = int(positions.size());
+            positions.push_back(grid.position(v));
+        }
+        std::vector<Face> faces = grid.faces();
+        for (Face &f : faces)
+            for (int &v : f) v = newIndex[size_t(v)];
+        return std::make_pair(positions, faces);
+    };
+    {
+        auto [positions, faces] = withUnused({1500, 5000});
+        EXPECT_NE(buildError(positions, faces).find("vertex 1500 is not used by any face"), std::string::npos)
+            << buildError(positions, faces);
+    }
+    {
+        auto [positions, faces] = withUnused({5000});
+        EXPECT_NE(buildError(positions, faces).find("vertex 5000 is not used by any face"), std::string::npos);
+    }
+    // Faces that repeat a directed edge: two flipped faces; the first vertex with a
+    // repeated outgoing edge is the smallest corner of the earlier one.
+    {
+        std::vector<Face> faces = grid.faces();
+        const int early = 3000, late = int(faces.size()) - 500;
+        for (int f : {late, early}) std::swap(faces[size_t(f)][1], faces[size_t(f)][2]);
+        const int first = *std::min_element(faces[size_t(early)].begin(), faces[size_t(early)].end());
+        ASSERT_LT(first, *std::min_element(faces[size_t(late)].begin(), faces[size_t(late)].end()));
+        const std::string message = buildError(grid.positions(), faces);
+        EXPECT_EQ(message.find("edge (" + std::to_string(first) + ", "), message.find("edge (")) << message;
+        EXPECT_NE(message.find("is used in the same direction"), std::string::npos) << message;
+    }
+    EXPECT_EQ(buildError(grid.positions(), grid.faces()), "");
+}
+
 TEST(MeshFromTriangles, InteriorRingAnglesSumToTwoPiOnFlatGrid) {
     Mesh m = makeGrid(4);
     int interior = 0;
