@@ -2,6 +2,7 @@
 
 #include "core/diagnostics.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "field/sparse_solver.h"
 
 #include <algorithm>
@@ -50,10 +51,10 @@ RosyField curvatureField(const TangentFrames &frames, const std::vector<VertexCu
     std::nth_element(sorted.begin(), sorted.begin() + k90, sorted.end());
     const double p90 = sorted[k90];
     if (!(p90 > 0)) return field;
-    for (int v = 0; v < n; ++v) {
-        const double a = std::min(aniso[v] / p90, 1.0);
-        field.u[v] = std::polar(a, nSym * frames.angleOfTangent(v, curvature[v].dirMax));
-    }
+    parallelFor(0, n, [&](int64_t v) {
+        const double a = std::min(aniso[size_t(v)] / p90, 1.0);
+        field.u[v] = std::polar(a, nSym * frames.angleOfTangent(int(v), curvature[size_t(v)].dirMax));
+    }, 2048);
     return field;
 }
 
