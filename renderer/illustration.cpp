@@ -6,6 +6,8 @@
 #include "core/progress.h"
 #include "renderer/view/embree_scene.h"
 
+#include <tbb/task_group.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -53,12 +55,19 @@ Illustration beginIllustration(const IllustrationInput &in) {
     // The curve saturates at the darkest coverage the style can draw: asking for
     // more would leave the whole shadow side short of its target by construction.
     const double darkest = maxHatchDensity(in.style.hatch);
-    for (size_t i = 0; i < tone.size(); ++i)
-        if (out.gbuffer.faceId[i] >= 0)
-            out.targetDensity[i] = float(std::min(darkest, std::pow(std::clamp(1.0 - tone[i], 0.0, 1.0), gamma)));
+    parallelFor(0, int64_t(tone.size()), [&](int64_t i) {
+        if (out.gbuffer.faceId[size_t(i)] >= 0)
+            out.targetDensity[size_t(i)] =
+                float(std::min(darkest, std::pow(std::clamp(1.0 - tone[size_t(i)], 0.0, 1.0), gamma)));
+    }, 16384);
     lap("tone");
 
-    // Contours need no field: traced here, appended after the hatches by finishIllustration().
+    // Contours need no field: traced here (or beside the hatching by
+    // finishIllustration()), appended after the hatches by finishIllustration().
+    if (in.contoursBesideHatching) {
+        out.contoursPending = true;
+        return out;
+    }
     out.contourStrokes = extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
     lap("contours");
     return out;
@@ -83,6 +92,30 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         ++stage;
         if (progress) progress->beginStage(stage);
     };
+    // Contours left by beginIllustration(): a task beside the screen field and the
+    // hatching, which read the same G-buffer; it writes only the contour members. If
+    // the hatching throws, the guard lets the task end before `out` goes.
+    tbb::task_group contourTask;
+    struct WaitForTask {
+        tbb::task_group &task;
+        ~WaitForTask() {
+            try {
+                task.wait();
+            } catch (...) { // second to the exception leaving finishIllustration()
+            }
+        }
+    } waitForTask{contourTask};
+    double contourMs = 0;
+    const bool contoursHere = out.contoursPending;
+    if (contoursHere) {
+        ROSY_CHECK(in.mesh && in.scene);
+        contourTask.run([&] {
+            const auto start = Clock::now();
+            out.contourStrokes =
+                extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
+            contourMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        });
+    }
     out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
     lap("screen_field");
 
@@ -122,6 +155,12 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     }
     if (in.measureHatching) out.hatch = measureHatches(out.strokes, out.screen, out.targetDensity, hatchStyle);
     lap("hatching");
+    if (contoursHere) {
+        contourTask.wait(); // rethrows the task's failure
+        out.contoursPending = false;
+        out.timingsMs.emplace_back("contours", contourMs);
+        t0 = Clock::now(); // the raster's time starts after the wait
+    }
 
     // Contour ids start at kContourIdBase, so every stroke's id stays unique.
     for (Stroke &s : out.contourStrokes.strokes) out.strokes.strokes.push_back(std::move(s));

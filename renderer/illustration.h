@@ -61,6 +61,12 @@ struct IllustrationInput {
     /// Show the terminal progress display of finishIllustration() (core/progress.h).
     /// Off when several illustrations are drawn at once.
     bool progress = true;
+    /// beginIllustration() leaves the contours to finishIllustration(), which traces
+    /// them in a task beside the screen field and the hatching (whose tracer is
+    /// sequential, so a core is free there). The strokes are the same either way.
+    /// For one illustration (render); off when several finish from one begun
+    /// illustration (compare), which would trace them once each.
+    bool contoursBesideHatching = false;
 };
 
 struct Illustration {
@@ -85,6 +91,9 @@ struct Illustration {
     /// The contours between beginIllustration() and finishIllustration(), which
     /// moves them to the end of `strokes`; empty after it.
     StrokeList contourStrokes;
+    /// Set by beginIllustration() when IllustrationInput::contoursBesideHatching
+    /// left the contours to finishIllustration().
+    bool contoursPending = false;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster
     // For the EXR: the camera as OpenEXR's standard attributes (Camera::worldToCamera(),
     // Camera::worldToNdc()) and the ink colour its premultiplied RGB carries.

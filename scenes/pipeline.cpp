@@ -111,8 +111,11 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
     return out;
 }
 
-renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays) {
-    return renderer::beginIllustration(viewInput(scene, rays));
+renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays,
+                                     bool contoursBesideHatching) {
+    renderer::IllustrationInput in = viewInput(scene, rays);
+    in.contoursBesideHatching = contoursBesideHatching;
+    return renderer::beginIllustration(in);
 }
 
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
@@ -137,14 +140,15 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
                           measureHatching, raster);
 }
 
-HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork) {
+HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork,
+                                 bool contoursBesideHatching) {
     HatchingView out;
     tbb::task_group view;
     view.run([&] {
         const auto start = std::chrono::steady_clock::now();
         out.rays = std::make_unique<renderer::RayScene>(scene.mesh);
         out.bvhMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        out.begun = beginHatching(scene, *out.rays);
+        out.begun = beginHatching(scene, *out.rays, contoursBesideHatching);
     });
     try {
         fieldWork();
@@ -189,17 +193,21 @@ void warnInkOffTheTone(const std::string &where, const renderer::Illustration &i
 }
 
 /// renderScene() for `picture.kind: hatching`: after the load, the frames, field and
-/// singularities on this thread with what needs no field (Embree BVH, G-buffer, tone,
-/// contours) beside them (beginHatchingBeside()); then finishHatching(). The view's
-/// stages reach `timings` and options.onStage from this thread, after the field's,
-/// in the order bvh, gbuffer, tone, screen_field, hatching, contours, raster; their
-/// times overlap the field's.
+/// singularities on this thread with what needs no field (Embree BVH, G-buffer, tone)
+/// beside them (beginHatchingBeside()); then finishHatching(), whose sequential tracer
+/// leaves a core to the contours, traced beside it. The view's stages reach `timings`
+/// and options.onStage from this thread, after the field's, in the order bvh, gbuffer,
+/// tone, screen_field, hatching, contours, raster; their times overlap the field's
+/// (contours: the screen field's and the hatching's).
 RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &options, RenderResult out) {
     out.loaded.scene = loadSceneObjects(desc, options, &out.timingsMs);
-    HatchingView view = beginHatchingBeside(*out.loaded.scene, [&] {
-        out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
-        out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
-    });
+    HatchingView view = beginHatchingBeside(
+        *out.loaded.scene,
+        [&] {
+            out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
+            out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+        },
+        true);
     out.timingsMs.emplace_back("bvh", view.bvhMs);
     if (options.onStage) options.onStage("bvh", view.bvhMs);
     out.rays = std::move(view.rays);

@@ -177,8 +177,10 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
 /// scene, not its frames; finishHatching() draws one field on it (screen field,
 /// hatching, raster: renderer::finishIllustration()), on a copy when several fields
 /// share one begun drawing. `progress` off: no terminal display (for panels drawn
-/// side by side).
-renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays);
+/// side by side). `contoursBesideHatching` moves the contours into finishHatching(),
+/// beside the hatching (for a single drawing).
+renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays,
+                                     bool contoursBesideHatching = false);
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
@@ -198,17 +200,20 @@ struct HatchingView {
 /// other: the task reads only `scene`, which fieldWork must not change. If fieldWork
 /// throws, the task is waited for (its own failure, if any, dropped) and the
 /// exception rethrown; else a failure of the task (Embree) is rethrown.
-HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork);
+/// `contoursBesideHatching`: the contours are left to finishHatching()
+/// (renderer::IllustrationInput::contoursBesideHatching); for a single drawing.
+HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork,
+                                 bool contoursBesideHatching = false);
 
 /// The whole pipeline: print mode when options.print (applyPrintUnits() on a copy
 /// of `desc`), buildSceneField(), then the scene's picture — the
 /// hatching (ray scene, renderIllustration()) or, for `picture.kind: field`, the
 /// field picture (separatrices when the scene asks for them; the scene's lights
 /// only when it has a `lights` key, else the picture's own light).
-/// For hatching, what needs no field (BVH, G-buffer, tone, contours) runs beside
-/// the frames and the field (beginHatchingBeside()), then finishHatching(); the
-/// drawing is the same as run in sequence. Their stages are reported after the
-/// field's (timings overlap).
+/// For hatching, what needs no field (BVH, G-buffer, tone) runs beside the frames
+/// and the field (beginHatchingBeside()), then finishHatching(), with the contours
+/// beside its screen field and hatching; the drawing is the same as run in sequence.
+/// Their stages are reported after the field's (timings overlap).
 /// \throws IoError / InputError from loading, editing and options.afterLoad;
 ///   std::runtime_error if Embree fails.
 RenderResult renderScene(const SceneDesc &desc, const PipelineOptions &options = {});

@@ -74,8 +74,9 @@ TEST(RenderScene, HatchingSceneGivesAnIllustrationAtTheCameraResolution) {
 }
 
 TEST(RenderScene, OverlappedStagesDrawWhatTheChainDrawsOneAfterTheOther) {
-    // renderScene() builds the BVH, G-buffer, tone and contours beside the field;
-    // the drawing must be the one the stages give run in sequence (loadScene(),
+    // renderScene() builds the BVH, G-buffer and tone beside the field and traces the
+    // contours beside the hatching; the drawing must be the one the stages give run
+    // in sequence (loadScene(),
     // buildSceneField(), a RayScene, renderIllustration() through drawHatching()),
     // on one thread and on several.
     const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
@@ -95,6 +96,7 @@ TEST(RenderScene, OverlappedStagesDrawWhatTheChainDrawsOneAfterTheOther) {
             EXPECT_EQ(il.strokes.strokes[i].points, chain.strokes.strokes[i].points) << i;
         }
         EXPECT_TRUE(il.contourStrokes.strokes.empty());
+        EXPECT_FALSE(il.contoursPending);
         EXPECT_EQ(il.composite.data, chain.composite.data) << threads;
         EXPECT_EQ(il.targetDensity, chain.targetDensity) << threads;
         EXPECT_EQ(il.contours.nChains, chain.contours.nChains) << threads;
