@@ -12,6 +12,7 @@
 #include <array>
 #include <exception>
 #include <numeric>
+#include <optional>
 
 // Repair of a polygon soup into a clean Mesh, as a sequence of named steps
 // (repairAndBuild() at the end of the file reads as the list of them). Each
@@ -85,10 +86,13 @@ bool runs(const Face &t, int a, int b) {
 /// one pair of faces (the first consistently oriented pair, else the first two);
 /// the others are cut loose along that edge. Returns the number of vertices
 /// whose corners fell into more than one group under the given joining rule.
+/// `edgeFaces`, when given, is buildEdgeFaces(tris).
 int splitVertices(std::vector<Vec3> &positions, std::vector<Face> &tris, bool cutEdges,
-                  int *nNonManifoldEdges) {
+                  int *nNonManifoldEdges, const EdgeFaces *edgeFaces = nullptr) {
     const int nF = int(tris.size());
-    EdgeFaces ef = buildEdgeFaces(tris);
+    std::optional<EdgeFaces> built;
+    if (!edgeFaces) built = buildEdgeFaces(tris);
+    const EdgeFaces &ef = edgeFaces ? *edgeFaces : *built;
     UnionFind uf(3 * nF);
     int nBad = 0;
     for (size_t e = 0; e < ef.keys.size(); ++e) {
@@ -287,11 +291,12 @@ int countIsolatedVertices(const std::vector<Face> &tris, const std::vector<int> 
 /// Counts non-manifold edges and pinched vertices without changing the mesh: a
 /// pass that joins every face on an edge tells which vertices are genuinely
 /// pinched (several fans).
-void countNonManifoldElements(const std::vector<Vec3> &positions, const std::vector<Face> &tris, LoadReport &rep) {
+void countNonManifoldElements(const std::vector<Vec3> &positions, const std::vector<Face> &tris,
+                              const EdgeFaces &edgeFaces, LoadReport &rep) {
     std::vector<Vec3> probePositions = positions;
     std::vector<Face> probe = tris;
     int nBadEdges = 0;
-    rep.nonManifoldVerticesSplit = splitVertices(probePositions, probe, false, &nBadEdges);
+    rep.nonManifoldVerticesSplit = splitVertices(probePositions, probe, false, &nBadEdges, &edgeFaces);
     rep.nonManifoldEdgesSplit = nBadEdges;
 }
 
@@ -335,9 +340,12 @@ void compactVertices(std::vector<Vec3> &positions, std::vector<Face> &tris) {
 /// Consistent orientation by BFS over manifold edges, per component. The
 /// orientation that flips fewer faces wins (ties keep the first face's).
 /// \throws InputError if a component is not orientable.
-void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadReport &rep) {
+void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadReport &rep,
+                             const EdgeFaces *edgeFaces = nullptr) {
     const int nF = int(tris.size());
-    EdgeFaces ef = buildEdgeFaces(tris);
+    std::optional<EdgeFaces> built;
+    if (!edgeFaces) built = buildEdgeFaces(tris);
+    const EdgeFaces &ef = edgeFaces ? *edgeFaces : *built;
     // Neighbour across each corner's edge (k -> k+1), or -1.
     std::vector<int> nbr(3 * nF, -1);
     for (size_t e = 0; e < ef.keys.size(); ++e) {
@@ -420,18 +428,19 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
                          "a surface mesh needs at least one triangle");
 
     // Counting the non-manifold elements and orienting the faces read the same
-    // triangles: they run at once, the orientation on a copy. When nothing is split
-    // (the usual case) the copy is the result (dropping unused vertices only renames
-    // them, which changes no flip and no message); otherwise it is thrown away and
-    // the steps run in their order.
+    // triangles and the same edge-face incidences: they run at once, the orientation
+    // on a copy. When nothing is split (the usual case) the copy is the result
+    // (dropping unused vertices only renames them, which changes no flip and no
+    // message); otherwise it is thrown away and the steps run in their order.
+    const EdgeFaces edgeFaces = buildEdgeFaces(tris);
     std::vector<Face> oriented;
     LoadReport orientation;
     std::exception_ptr orientationError;
-    tbb::parallel_invoke([&] { countNonManifoldElements(positions, tris, rep); },
+    tbb::parallel_invoke([&] { countNonManifoldElements(positions, tris, edgeFaces, rep); },
                          [&] {
                              oriented = tris;
                              try {
-                                 orientFacesConsistently(oriented, loc, orientation);
+                                 orientFacesConsistently(oriented, loc, orientation, &edgeFaces);
                              } catch (const InputError &) {
                                  orientationError = std::current_exception();
                              }
