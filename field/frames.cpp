@@ -37,8 +37,12 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
     m_faceY.assign(nF, Vec3::UnitY());
     m_vertexToFace.assign(nH, 0.0);
 
+    // Corner angles and face normals once each: the vertex normals below are
+    // Mesh::vertexNormal() summed from them (the same terms in the same order).
     std::vector<double> corner(nH);
     parallelFor(0, nH, [&](int64_t h) { corner[h] = mesh.cornerAngle(int(h)); }, 4096);
+    std::vector<Vec3> faceNormal(nF);
+    parallelFor(0, nF, [&](int64_t f) { faceNormal[size_t(f)] = mesh.faceNormal(int(f)); }, 4096);
 
     const int *ring0 = nV > 0 ? mesh.outgoingBegin(0) : nullptr;
     // Scratch space per chunk, not thread_local: a thread_local with a destructor
@@ -68,7 +72,10 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
         }
 
         // Extrinsic embedding: projected wedge angles around the vertex normal.
-        Vec3 n = mesh.vertexNormal(v);
+        Vec3 n = Vec3::Zero();
+        for (int k = 0; k < d; ++k) n += corner[begin[k]] * faceNormal[size_t(Mesh::faceOf(begin[k]))];
+        const double nLength = n.norm();
+        n = nLength > 0 ? Vec3(n / nLength) : Vec3::Zero();
         if (n.squaredNorm() == 0) n = Vec3::UnitZ();
         m_normal[v] = n;
         auto projected = [&](const Vec3 &e) {
@@ -113,7 +120,7 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
         double k = -M_PI;
         for (int c = 0; c < 3; ++c) k += m_scale[mesh.face(f)[c]] * corner[3 * f + c];
         m_faceHolonomy[f] = k;
-        Vec3 n = mesh.faceNormal(f);
+        const Vec3 &n = faceNormal[size_t(f)];
         Vec3 x = mesh.vector(3 * f);
         if (x.squaredNorm() == 0 || n.squaredNorm() == 0) return; // degenerate: keep defaults
         x.normalize();
