@@ -1,9 +1,11 @@
 #include "field/mesh/mesh_scan.h"
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <algorithm>
 #include <cstring>
+#include <exception>
 #include <limits>
 
 namespace rosy::field::detail {
@@ -18,6 +20,33 @@ bool isBlankOffLine(const std::string &path, int lineNumber, std::string_view li
                          "comments after the OFF header are not supported",
                          "remove the '#' lines");
     return true;
+}
+
+/// A numbered line of the file.
+struct NumberedLine {
+    std::string_view text;
+    int number = 0;
+};
+
+/// Calls parse(i, tokens) for every i in [0, n) in parallel chunks; the first
+/// InputError in index order (that is, in file order) is rethrown afterwards, as a
+/// loop in order would have thrown it. `parse` writes only its own index.
+template <typename Parse>
+void parseLinesInParallel(size_t n, Parse &&parse) {
+    constexpr int64_t kGrain = 4096;
+    const int64_t nChunks = (int64_t(n) + kGrain - 1) / kGrain;
+    std::vector<std::exception_ptr> errors(static_cast<size_t>(nChunks));
+    parallelFor(0, nChunks, [&](int64_t c) {
+        std::vector<Token> tok;
+        const size_t end = std::min(n, size_t(c + 1) * size_t(kGrain));
+        try {
+            for (size_t i = size_t(c) * size_t(kGrain); i < end; ++i) parse(i, tok);
+        } catch (const InputError &) {
+            errors[size_t(c)] = std::current_exception(); // the chunk's first; later chunks' come after it
+        }
+    }, 1);
+    for (const std::exception_ptr &e : errors)
+        if (e) std::rethrow_exception(e);
 }
 
 } // namespace
@@ -111,31 +140,44 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
                              " faces but the rest of the file is only " +
                              std::to_string(reader.remainingBytes()) + " bytes",
                          "the file is truncated or its header is wrong");
-    soup.positions.reserve(size_t(nV));
-    soup.polygons.reserve(size_t(nF));
-    int64_t v = 0;
-    while (v < nV && reader.next(line)) {
-        if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-        tokenize(line, tok);
-        soup.positions.push_back(vertexAt(path, reader.lineNumber(), tok, 0, v));
-        ++v;
+    // The vertex and face lines, in order, up to the counts; then parsed in parallel.
+    // A comment line ends the collection: its error comes after any in the lines
+    // before it, as it does when the lines are parsed in order.
+    std::vector<NumberedLine> lines;
+    lines.reserve(size_t(std::min<int64_t>(nV + nF, int64_t(reader.remainingBytes() / 6 + 1))));
+    std::exception_ptr commentError;
+    while (int64_t(lines.size()) < nV + nF && reader.next(line)) {
+        try {
+            if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
+        } catch (const InputError &) {
+            commentError = std::current_exception();
+            break;
+        }
+        lines.push_back({line, reader.lineNumber()});
     }
-    int64_t f = 0;
-    while (f < nF && reader.next(line)) {
-        if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-        tokenize(line, tok);
+    const int64_t v = std::min<int64_t>(nV, int64_t(lines.size()));
+    const int64_t f = int64_t(lines.size()) - v;
+    soup.positions.resize(size_t(v));
+    parseLinesInParallel(size_t(v), [&](size_t i, std::vector<Token> &tok) {
+        tokenize(lines[i].text, tok);
+        soup.positions[i] = vertexAt(path, lines[i].number, tok, 0, int64_t(i));
+    });
+    soup.polygons.resize(size_t(f));
+    parseLinesInParallel(size_t(f), [&](size_t i, std::vector<Token> &tok) {
+        const NumberedLine &l = lines[size_t(v) + i];
+        tokenize(l.text, tok);
         int64_t n = 0;
         if (!parseInt64(tok[0].text, n) || n < 1 || int64_t(tok.size()) < n + 1)
-            throw InputError(FileLoc{path, reader.lineNumber(), tok[0].col},
-                             "face " + std::to_string(f) + " could not be parsed",
+            throw InputError(FileLoc{path, l.number, tok[0].col},
+                             "face " + std::to_string(i) + " could not be parsed",
                              "a face line reads 'n i1 ... in'");
-        std::vector<int> poly(static_cast<size_t>(n));
+        std::vector<int> &poly = soup.polygons[i];
+        poly.resize(static_cast<size_t>(n));
         for (int64_t k = 1; k <= n; ++k)
-            poly[size_t(k - 1)] = cornerIndex(path, reader.lineNumber(), tok[size_t(k)], f, nV,
+            poly[size_t(k - 1)] = cornerIndex(path, l.number, tok[size_t(k)], int64_t(i), nV,
                                               "indices in OFF files start at 0");
-        soup.polygons.push_back(std::move(poly));
-        ++f;
-    }
+    });
+    if (commentError) std::rethrow_exception(commentError);
     if (v < nV || f < nF)
         throw InputError(FileLoc{path, countsLine, 1},
                          "header says " + std::to_string(nV) + " vertices and " + std::to_string(nF) +

@@ -233,6 +233,46 @@ TEST_F(BadMesh, TruncatedAsciiFilesNameTheirPlace) {
             "fewer than 3 coordinates");
 }
 
+TEST_F(BadMesh, LargeOffFilesNameTheirFirstBadLine) {
+    // ASCII OFF lines are parsed in parallel chunks of 4,096: the error named must
+    // still be the first in the file, as a reading in order finds it. A 100 x 100
+    // grid: vertex i on line 3 + i, face j on line 3 + 10,201 + j.
+    const int n = 100, nV = (n + 1) * (n + 1), nF = 2 * n * n;
+    std::vector<std::string> lines = {"OFF", std::to_string(nV) + " " + std::to_string(nF) + " 0"};
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) lines.push_back(std::to_string(i) + " " + std::to_string(j) + " 0");
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+            lines.push_back("3 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c));
+            lines.push_back("3 " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d));
+        }
+    auto file = [&](std::vector<std::pair<int, std::string>> edits) {
+        std::vector<std::string> l = lines;
+        for (const auto &[at, text] : edits) l[size_t(at)] = text;
+        std::string s;
+        for (const std::string &x : l) s += x + "\n";
+        return s;
+    };
+    const int vLine = 3, fLine = 3 + nV; // 1-based line of vertex 0, face 0
+    const std::string ok = file({});
+    EXPECT_NO_THROW(loadMesh(write("ok.off", ok), {}));
+    // Two bad vertices, the later in an earlier-finishing chunk or not: the first named.
+    rejects("v.off", file({{vLine - 1 + 9000, "1 2 x"}, {vLine - 1 + 300, "1 y 2"}}),
+            ":" + std::to_string(vLine + 300) + ":3", "expected a coordinate");
+    // A bad face and a bad vertex: the vertex (earlier in the file).
+    rejects("vf.off", file({{fLine - 1 + 100, "3 0 1 999999"}, {vLine - 1 + 9500, "1 2"}}),
+            ":" + std::to_string(vLine + 9500) + ":1", "fewer than 3 coordinates");
+    // Two bad faces: the first.
+    rejects("f.off", file({{fLine - 1 + 15000, "3 0 1 -4"}, {fLine - 1 + 7000, "3 0 1 999999"}}),
+            ":" + std::to_string(fLine + 7000) + ":7", "face 7000 uses vertex index '999999'");
+    // A comment line after a bad face: the face; before it: the comment.
+    rejects("fc.off", file({{fLine - 1 + 12000, "# note"}, {fLine - 1 + 500, "3 0 1 999999"}}),
+            ":" + std::to_string(fLine + 500) + ":7", "face 500 uses vertex index");
+    rejects("c.off", file({{fLine - 1 + 12000, "# note"}, {fLine - 1 + 15000, "3 0 1 999999"}}),
+            ":" + std::to_string(fLine + 12000) + ":1", "comments after the OFF header");
+}
+
 TEST_F(BadMesh, TruncatedBinaryPlyAndStl) {
     const std::string ply = binaryPly();
     rejects("t.ply", ply.substr(0, ply.size() - 7), ":1:1", "header says");
