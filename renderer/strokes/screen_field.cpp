@@ -153,8 +153,20 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             const double strength = std::abs(u);
             out.strength[i] = float(strength);
             if (!(strength > 1e-12)) continue;
-            const Vec3 m0 = memberDirection(frames, f, u, nSym);
-            const Vec3 m1 = faceNormal[size_t(f)].cross(m0);
+            // The member lies in face f's plane; projected from there, one surface
+            // direction jumps at every edge where faces bend against each other (on
+            // coarse meshes by 20-40°), and lines stop or restart at each jump. Taken
+            // into the tangent plane of the crease-aware shading normal instead, it turns
+            // smoothly across such edges and still follows each side of a sharp crease.
+            Vec3 m0 = memberDirection(frames, f, u, nSym);
+            Vec3 nrm = faceNormal[size_t(f)];
+            const Vec3 ns = gbuffer.creaseNormal(i);
+            const Vec3 inPlane = m0 - m0.dot(ns) * ns;
+            if (inPlane.norm() > 1e-6) {
+                m0 = inPlane.normalized();
+                nrm = ns;
+            }
+            const Vec3 m1 = nrm.cross(m0);
             const Eigen::Matrix<double, 2, 3> J = camera.projectJacobian(gbuffer.position(i));
             const Vec2 s0 = J * m0, s1 = J * m1;
             // Edge-on faces project their tangents to (nearly) nothing: no direction there.

@@ -4,6 +4,8 @@
 #include "core/parallel.h"
 #include "renderer/output/large_buffer.h"
 
+#include <cmath>
+
 namespace rosy::renderer {
 
 Vec3 GBuffer::position(size_t i) const {
@@ -23,6 +25,15 @@ Vec3 GBuffer::normal(size_t i) const {
     return len > 1e-12 ? Vec3(nrm / len) : mesh->faceNormal(face);
 }
 
+Vec3 GBuffer::creaseNormal(size_t i) const {
+    const int face = faceId[i];
+    const Vec3 *c = cornerNormals->data() + 3 * size_t(face);
+    const double u = barycentric[i].x(), v = barycentric[i].y();
+    const Vec3 nrm = (1.0 - u - v) * c[0] + u * c[1] + v * c[2];
+    const double len = nrm.norm();
+    return len > 1e-12 ? Vec3(nrm / len) : mesh->faceNormal(face);
+}
+
 GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Camera &camera) {
     GBuffer g;
     g.width = camera.width();
@@ -39,6 +50,8 @@ GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Came
     auto normals = std::make_shared<std::vector<Vec3>>(size_t(mesh.nVertices()));
     parallelFor(0, mesh.nVertices(), [&](int64_t v) { (*normals)[size_t(v)] = mesh.vertexNormal(int(v)); });
     g.vertexNormals = std::move(normals);
+    g.cornerNormals = std::make_shared<const std::vector<Vec3>>(
+        creaseAwareCornerNormals(mesh, kCreaseAngleDeg * M_PI / 180.0));
 
     const Vec3 eye = camera.position(), forward = camera.forward();
     parallelFor(

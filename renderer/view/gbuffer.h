@@ -13,6 +13,7 @@
 
 #include "field/mesh.h"
 #include "renderer/view/camera.h"
+#include "renderer/view/crease_normals.h"
 #include "renderer/view/embree_scene.h"
 
 #include <memory>
@@ -40,10 +41,17 @@ struct GBuffer {
     /// (outward, not flipped toward the viewer); the face normal where that
     /// vanishes (opposite vertex normals on a very sharp crease). \pre faceId[i] >= 0.
     Vec3 normal(size_t i) const;
+    /// Unit crease-aware shading normal of covered pixel i (outward), interpolated
+    /// from creaseAwareCornerNormals() at kCreaseAngleDeg: smooth across edges whose
+    /// faces meet at less than the crease angle, each side's own across sharper ones;
+    /// the face normal where the interpolation vanishes. \pre faceId[i] >= 0.
+    Vec3 creaseNormal(size_t i) const;
 
-    /// The mesh the face ids index and its vertex normals (shared, immutable).
+    /// The mesh the face ids index, its vertex normals and its crease-aware corner
+    /// normals (3 per face, by halfedge; shared, immutable).
     const field::Mesh *mesh = nullptr;
     std::shared_ptr<const std::vector<Vec3>> vertexNormals;
+    std::shared_ptr<const std::vector<Vec3>> cornerNormals;
 };
 
 /// Traces one primary ray per pixel centre. Rows run in parallel through
