@@ -6,55 +6,77 @@
 
 namespace rosy::renderer {
 
-std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creaseAngleRad) {
+std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creaseAngleRad,
+                                           std::vector<Vec3> *vertexNormals) {
     const int nF = mesh.nFaces();
     std::vector<Vec3> faceNormal(static_cast<size_t>(nF));
     std::vector<Vec3> out(static_cast<size_t>(mesh.nHalfedges()), Vec3::Zero());
-    std::vector<double> angle(static_cast<size_t>(mesh.nHalfedges()));
-    parallelFor(0, nF, [&](int64_t f) {
-        faceNormal[size_t(f)] = mesh.faceNormal(int(f));
-        for (int k = 0; k < 3; ++k) angle[size_t(3 * f + k)] = mesh.cornerAngle(int(3 * f + k));
-    }, 1024);
+    parallelFor(0, nF, [&](int64_t f) { faceNormal[size_t(f)] = mesh.faceNormal(int(f)); }, 1024);
+    if (vertexNormals) vertexNormals->assign(size_t(mesh.nVertices()), Vec3::Zero());
     const double cosCrease = std::cos(creaseAngleRad);
-    // An edge between faces a and b is smooth unless both have a normal and those
-    // differ by more than the crease angle.
-    auto smooth = [&](int a, int b) {
-        const Vec3 &na = faceNormal[size_t(a)], &nb = faceNormal[size_t(b)];
-        if (na.squaredNorm() == 0 || nb.squaredNorm() == 0) return true;
-        return na.dot(nb) >= cosCrease;
-    };
-
-    parallelFor(0, nF, [&](int64_t f64) {
-        const int f = int(f64);
-        for (int k = 0; k < 3; ++k) {
-            const int h0 = 3 * f + k; // leaves the corner's vertex v inside face f
-            const int steps = mesh.degree(mesh.tail(h0));
-            Vec3 sum = angle[size_t(h0)] * faceNormal[size_t(f)];
-            // Counter-clockwise: across the edge of the halfedge entering v.
-            int h = h0, n = 0;
-            bool closed = false;
-            for (; n < steps; ++n) {
-                const int t = mesh.twin(field::Mesh::prev(h));
-                if (t < 0 || !smooth(field::Mesh::faceOf(h), field::Mesh::faceOf(t))) break;
-                if (t == h0) {
-                    closed = true; // back at f: the whole fan is smooth
-                    break;
+    // Per vertex, once around its fan: the creases (and the boundary) cut the fan into
+    // sectors of consecutive faces, and every corner of a sector gets that sector's
+    // angle-weighted sum. Walking the fan both ways from each face, stopping at a
+    // crease, reaches exactly the face's sector, so this is the same sum in one pass.
+    parallelFor(0, mesh.nVertices(), [&](int64_t v64) {
+        const int v = int(v64);
+        const int *ring = mesh.outgoingBegin(v);
+        const int d = mesh.degree(v);
+        if (d == 0) return;
+        // Each corner's face normal and weighted normal once, summed in ring order for
+        // the whole fan (the operations of Mesh::vertexNormal, so the same bits).
+        Vec3 localN[16], localW[16];
+        std::vector<Vec3> heap;
+        Vec3 *nf = localN, *w = localW;
+        if (d > 16) {
+            heap.resize(2 * size_t(d));
+            nf = heap.data();
+            w = nf + d;
+        }
+        Vec3 total = Vec3::Zero();
+        for (int i = 0; i < d; ++i) {
+            nf[i] = faceNormal[size_t(field::Mesh::faceOf(ring[i]))];
+            w[i] = mesh.cornerAngle(ring[i]) * nf[i];
+            total += w[i];
+        }
+        if (vertexNormals) {
+            const double len = total.norm();
+            (*vertexNormals)[size_t(v)] = len > 0 ? Vec3(total / len) : Vec3::Zero();
+        }
+        // The ring is counter-clockwise, each face the neighbour of the one before
+        // across their shared edge (Mesh::outgoingBegin); a boundary vertex's ring
+        // starts and ends at the boundary. cut(i): no smooth step from face i to i + 1.
+        const bool open = mesh.isBoundaryVertex(v);
+        auto cut = [&](int i) {
+            if (i == d - 1 && open) return true;
+            const Vec3 &a = nf[i], &b = nf[(i + 1) % d];
+            if (a.squaredNorm() == 0 || b.squaredNorm() == 0) return false;
+            return a.dot(b) < cosCrease;
+        };
+        // Start just after a cut, so that no sector wraps around; a fan without any
+        // is one sector.
+        int start = 0;
+        for (int i = 0; i < d; ++i)
+            if (cut((i + d - 1) % d)) {
+                start = i;
+                break;
+            }
+        Vec3 sum = Vec3::Zero();
+        int first = start;
+        for (int k = 0; k < d; ++k) {
+            const int i = (start + k) % d;
+            sum += w[i];
+            if (k + 1 == d || cut(i)) {
+                const double len = sum.norm();
+                for (int j = first;; j = (j + 1) % d) {
+                    const int hj = ring[j];
+                    // A zero-area face and a zero sum: the face's own (zero) normal.
+                    out[size_t(hj)] = len > 0 ? Vec3(sum / len) : nf[j];
+                    if (j == i) break;
                 }
-                h = t;
-                sum += angle[size_t(h)] * faceNormal[size_t(field::Mesh::faceOf(h))];
+                sum = Vec3::Zero();
+                first = (i + 1) % d;
             }
-            // Clockwise: across the edge of the halfedge leaving v, up to the crease
-            // (or boundary) on the other side; the faces walked above are beyond it.
-            h = h0;
-            for (int m = n; !closed && m < steps; ++m) {
-                const int t = mesh.twin(h);
-                if (t < 0 || !smooth(field::Mesh::faceOf(h), field::Mesh::faceOf(t))) break;
-                h = field::Mesh::next(t);
-                if (h == h0) break;
-                sum += angle[size_t(h)] * faceNormal[size_t(field::Mesh::faceOf(h))];
-            }
-            const double len = sum.norm();
-            out[size_t(h0)] = len > 0 ? Vec3(sum / len) : faceNormal[size_t(f)];
         }
     }, 256);
     return out;

@@ -29,6 +29,9 @@ constexpr double kCreaseAngleDeg = 65.0;
 /// reached (f included) are summed weighted by their angle at the vertex. Zero-area
 /// faces neither contribute nor stop the walk. Where the sum vanishes the entry is
 /// face f's normal (zero for a zero-area face).
-std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creaseAngleRad);
+/// \param vertexNormals if not null, receives every vertex's normal over its whole
+///   fan, equal to Mesh::vertexNormal (the same sums, computed in the same pass).
+std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creaseAngleRad,
+                                           std::vector<Vec3> *vertexNormals = nullptr);
 
 } // namespace rosy::renderer

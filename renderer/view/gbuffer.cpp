@@ -46,12 +46,12 @@ GBuffer renderGBuffer(const RayScene &scene, const field::Mesh &mesh, const Came
     assignLarge(g.barycentric, n, Eigen::Vector2f(Eigen::Vector2f::Zero()));
     assignLarge(g.depth, n, 0.0f);
 
-    // Vertex normals once, not three times per pixel.
-    auto normals = std::make_shared<std::vector<Vec3>>(size_t(mesh.nVertices()));
-    parallelFor(0, mesh.nVertices(), [&](int64_t v) { (*normals)[size_t(v)] = mesh.vertexNormal(int(v)); });
-    g.vertexNormals = std::move(normals);
+    // Vertex normals and crease-aware corner normals once, in one pass over the
+    // vertices' fans, not three times per pixel.
+    auto normals = std::make_shared<std::vector<Vec3>>();
     g.cornerNormals = std::make_shared<const std::vector<Vec3>>(
-        creaseAwareCornerNormals(mesh, kCreaseAngleDeg * M_PI / 180.0));
+        creaseAwareCornerNormals(mesh, kCreaseAngleDeg * M_PI / 180.0, normals.get()));
+    g.vertexNormals = std::move(normals);
 
     const Vec3 eye = camera.position(), forward = camera.forward();
     parallelFor(

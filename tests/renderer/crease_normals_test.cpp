@@ -99,7 +99,10 @@ TEST(CreaseNormals, FoldBelowTheCreaseAngleIsAveragedAndAboveItIsNot) {
 TEST(CreaseNormals, SmoothSurfaceCornersAreItsNormal) {
     // Level 4: 2,048 faces, neighbouring faces about 5° apart, all under the crease angle.
     const field::Mesh sphere = test::makeSphere(4);
-    const std::vector<Vec3> n = creaseAwareCornerNormals(sphere, kCreaseAngleDeg * kDeg);
+    std::vector<Vec3> vertexNormals;
+    const std::vector<Vec3> n = creaseAwareCornerNormals(sphere, kCreaseAngleDeg * kDeg, &vertexNormals);
+    ASSERT_EQ(int(vertexNormals.size()), sphere.nVertices());
+    for (int v = 0; v < sphere.nVertices(); ++v) EXPECT_EQ(vertexNormals[size_t(v)], sphere.vertexNormal(v)) << v;
     double worst = 0, spread = 0;
     for (int f = 0; f < sphere.nFaces(); ++f)
         for (int k = 0; k < 3; ++k) {
