@@ -18,8 +18,8 @@ using Vec3 = Eigen::Vector3d;
 
 /// Dihedral angle (between the two faces' normals) above which an edge is a crease.
 /// Scanned and subdivided surfaces bend by a few degrees per edge, coarse ones like
-/// CGAL's nefertiti.off by up to 55° (its nose); CAD parts by 70-90° at their rims
-/// (fandisk.off: 693 of its 19,411 edges). docs/hatching.md has the figures.
+/// CGAL's nefertiti.off by up to 60° (its nose); CAD parts by 70-90° at their rims
+/// (fandisk.off: 693 of its 19,419 edges). docs/hatching.md has the figures.
 constexpr double kCreaseAngleDeg = 65.0;
 
 /// Unit normal of every face corner, indexed by halfedge: entry 3 f + k is the normal
