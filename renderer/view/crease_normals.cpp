@@ -10,9 +10,11 @@ std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creas
                                            std::vector<Vec3> *vertexNormals) {
     const int nF = mesh.nFaces();
     std::vector<Vec3> faceNormal(static_cast<size_t>(nF));
-    std::vector<Vec3> out(static_cast<size_t>(mesh.nHalfedges()), Vec3::Zero());
+    // Every halfedge leaves exactly one vertex, so the loop below writes every entry
+    // (Eigen's default constructor leaves them unset: no pass to zero them first).
+    std::vector<Vec3> out(static_cast<size_t>(mesh.nHalfedges()));
     parallelFor(0, nF, [&](int64_t f) { faceNormal[size_t(f)] = mesh.faceNormal(int(f)); }, 1024);
-    if (vertexNormals) vertexNormals->assign(size_t(mesh.nVertices()), Vec3::Zero());
+    if (vertexNormals) vertexNormals->resize(size_t(mesh.nVertices()));
     const double cosCrease = std::cos(creaseAngleRad);
     // Per vertex, once around its fan: the creases (and the boundary) cut the fan into
     // sectors of consecutive faces, and every corner of a sector gets that sector's
@@ -22,7 +24,7 @@ std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creas
         const int v = int(v64);
         const int *ring = mesh.outgoingBegin(v);
         const int d = mesh.degree(v);
-        if (d == 0) return;
+        if (d == 0) return; // not in a Mesh (fromTriangles rejects isolated vertices)
         // Each corner's face normal and weighted normal once, summed in ring order for
         // the whole fan (the operations of Mesh::vertexNormal, so the same bits).
         Vec3 localN[16], localW[16];
