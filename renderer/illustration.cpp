@@ -6,6 +6,7 @@
 #include "core/progress.h"
 #include "renderer/view/embree_scene.h"
 
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
@@ -26,6 +27,11 @@ double nominalHatchSpacingPx(const styles::HatchStyle &style) {
 }
 
 namespace {
+
+/// f() run so that, while this thread waits for f's own parallel loops, it takes no
+/// other task: the contour task beside the hatching (finishIllustration()) would
+/// hold up the tracer.
+template <typename F> auto isolated(F &&f) { return tbb::this_task_arena::isolate(std::forward<F>(f)); }
 
 /// The stages' order in Illustration::timingsMs, whichever ran first.
 constexpr const char *kStageOrder[] = {"gbuffer", "tone", "screen_field", "hatching", "contours", "raster"};
@@ -92,9 +98,13 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         ++stage;
         if (progress) progress->beginStage(stage);
     };
-    // Contours left by beginIllustration(): a task beside the screen field and the
-    // hatching, which read the same G-buffer; it writes only the contour members. If
-    // the hatching throws, the guard lets the task end before `out` goes.
+    out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
+    lap("screen_field");
+
+    // Contours left by beginIllustration(): a task beside the hatching, whose tracer
+    // is sequential (after the screen field, whose loops take every core). Both read
+    // the G-buffer; the task writes only the contour members. If the hatching throws,
+    // the guard lets the task end before `out` goes.
     tbb::task_group contourTask;
     struct WaitForTask {
         tbb::task_group &task;
@@ -116,11 +126,10 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
             contourMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         });
     }
-    out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
-    lap("screen_field");
 
     styles::HatchStyle hatchStyle = in.style.hatch;
-    out.strokes = traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed);
+    out.strokes =
+        isolated([&] { return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed); });
     if (hatchStyle.calibrateInk) {
         // Print mode: how much ink a Jobard-Lefer tracing lays down for the spacings
         // the tone asks for depends on the picture's size against them (line ends at
@@ -140,7 +149,8 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
             styles::HatchStyle next = hatchStyle;
             for (int trace = 1; trace < kInkCalibrationTraces; ++trace) {
                 next.spacingGain = std::clamp(next.spacingGain * drawn / asked, kMinSpacingGain, kMaxSpacingGain);
-                StrokeList strokes = traceHatches(out.screen, out.targetDensity, out.gbuffer, next, in.style.seed);
+                StrokeList strokes = isolated(
+                    [&] { return traceHatches(out.screen, out.targetDensity, out.gbuffer, next, in.style.seed); });
                 drawn = hatchInkPx(strokes);
                 if (!(drawn > 0)) break;
                 if (std::abs(drawn / asked - 1.0) < bestError) {
@@ -153,7 +163,8 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         }
         out.spacingGain = hatchStyle.spacingGain;
     }
-    if (in.measureHatching) out.hatch = measureHatches(out.strokes, out.screen, out.targetDensity, hatchStyle);
+    if (in.measureHatching)
+        out.hatch = isolated([&] { return measureHatches(out.strokes, out.screen, out.targetDensity, hatchStyle); });
     lap("hatching");
     if (contoursHere) {
         contourTask.wait(); // rethrows the task's failure

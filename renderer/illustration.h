@@ -62,8 +62,9 @@ struct IllustrationInput {
     /// Off when several illustrations are drawn at once.
     bool progress = true;
     /// beginIllustration() leaves the contours to finishIllustration(), which traces
-    /// them in a task beside the screen field and the hatching (whose tracer is
-    /// sequential, so a core is free there). The strokes are the same either way.
+    /// them in a task beside the hatching (whose tracer is sequential, so a core is
+    /// free there; the tracer's own loops are isolated from the task so that its
+    /// thread never picks the task up). The strokes are the same either way.
     /// For one illustration (render); off when several finish from one begun
     /// illustration (compare), which would trace them once each.
     bool contoursBesideHatching = false;

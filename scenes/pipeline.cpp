@@ -198,7 +198,7 @@ void warnInkOffTheTone(const std::string &where, const renderer::Illustration &i
 /// leaves a core to the contours, traced beside it. The view's stages reach `timings`
 /// and options.onStage from this thread, after the field's, in the order bvh, gbuffer,
 /// tone, screen_field, hatching, contours, raster; their times overlap the field's
-/// (contours: the screen field's and the hatching's).
+/// (contours: the hatching's).
 RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &options, RenderResult out) {
     out.loaded.scene = loadSceneObjects(desc, options, &out.timingsMs);
     HatchingView view = beginHatchingBeside(

@@ -212,7 +212,7 @@ HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()>
 /// only when it has a `lights` key, else the picture's own light).
 /// For hatching, what needs no field (BVH, G-buffer, tone) runs beside the frames
 /// and the field (beginHatchingBeside()), then finishHatching(), with the contours
-/// beside its screen field and hatching; the drawing is the same as run in sequence.
+/// beside its hatching; the drawing is the same as run in sequence.
 /// Their stages are reported after the field's (timings overlap).
 /// \throws IoError / InputError from loading, editing and options.afterLoad;
 ///   std::runtime_error if Embree fails.
