@@ -10,6 +10,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -225,44 +226,61 @@ ImageAttribute exrMatrix(const char *name, const Eigen::Matrix4d &m) {
 
 } // namespace
 
-Image illustrationExr(const Illustration &il) {
-    const int width = il.gbuffer.width, height = il.gbuffer.height;
+namespace {
+
+constexpr size_t kExrChannels = 19; // illustrationExrChannelNames().size()
+
+/// The illustration's per-pixel planes, where present, have one value per pixel.
+void checkPlanes(const Illustration &il) {
     const size_t n = il.gbuffer.nPixels();
     const InkLayers &layers = il.layers;
     for (const std::vector<float> *v : {&layers.hatch0, &layers.hatch1, &layers.contour, &layers.hiddenContour,
                                         &il.screen.angle0, &il.screen.angle1, &il.targetDensity})
         if (!v->empty()) ROSY_CHECK_EQ(v->size(), n);
-    const std::vector<float> coverage = combinedCoverage(layers);
+}
+
+/// Pixel i of illustrationExr(), its channels in illustrationExrChannelNames() order,
+/// into px[0, kExrChannels), which holds zeros on entry (channels 11-18 stay 0 off the
+/// object). `coverage` is combinedCoverage(il.layers), k fieldHarmonic(N).
+void exrPixel(const Illustration &il, const std::vector<float> &coverage, int k, size_t i, float *px) {
+    const InkLayers &layers = il.layers;
+    auto get = [](const std::vector<float> &v, size_t j) { return v.empty() || !std::isfinite(v[j]) ? 0.0f : v[j]; };
+    const float a = coverage[i];
+    for (int c = 0; c < 3; ++c) px[c] = float(il.ink[size_t(c)]) * a;
+    px[3] = a;
+    px[4] = get(il.targetDensity, i);
+    px[5] = a;
+    px[6] = get(layers.hatch0, i);
+    px[7] = get(layers.hatch1, i);
+    px[8] = get(layers.contour, i);
+    px[9] = get(layers.hiddenContour, i);
+    const bool onObject = il.gbuffer.faceId[i] >= 0;
+    px[10] = onObject ? il.gbuffer.depth[i] : std::numeric_limits<float>::infinity();
+    if (onObject) {
+        const Vec3 nrm = il.gbuffer.normal(i);
+        px[11] = float(nrm.x()), px[12] = float(nrm.y()), px[13] = float(nrm.z());
+        const float angle0 = get(il.screen.angle0, i);
+        px[14] = angle0;
+        px[15] = get(il.screen.angle1, i);
+        px[16] = float(std::cos(double(k) * angle0));
+        px[17] = float(std::sin(double(k) * angle0));
+        px[18] = 1.0f;
+    }
+}
+
+} // namespace
+
+Image illustrationExr(const Illustration &il) {
+    const int width = il.gbuffer.width, height = il.gbuffer.height;
+    const size_t n = il.gbuffer.nPixels();
+    checkPlanes(il);
+    const std::vector<float> coverage = combinedCoverage(il.layers);
     Image image(width, height, illustrationExrChannelNames());
+    ROSY_CHECK_EQ(size_t(image.nChannels), kExrChannels);
     image.premultipliedAlpha = true;
-    const int nc = image.nChannels;
     const int k = fieldHarmonic(il.screen.nSym);
-    const float inf = std::numeric_limits<float>::infinity();
-    auto get = [](const std::vector<float> &v, size_t i) { return v.empty() || !std::isfinite(v[i]) ? 0.0f : v[i]; };
-    parallelFor(0, int64_t(n), [&](int64_t ii) {
-        const size_t i = size_t(ii);
-        float *px = &image.data[i * size_t(nc)];
-        const float a = coverage[i];
-        for (int c = 0; c < 3; ++c) px[c] = float(il.ink[size_t(c)]) * a;
-        px[3] = a;
-        px[4] = get(il.targetDensity, i);
-        px[5] = a;
-        px[6] = get(layers.hatch0, i);
-        px[7] = get(layers.hatch1, i);
-        px[8] = get(layers.contour, i);
-        px[9] = get(layers.hiddenContour, i);
-        const bool onObject = il.gbuffer.faceId[i] >= 0;
-        px[10] = onObject ? il.gbuffer.depth[i] : inf;
-        if (onObject) {
-            const Vec3 nrm = il.gbuffer.normal(i);
-            px[11] = float(nrm.x()), px[12] = float(nrm.y()), px[13] = float(nrm.z());
-            const float angle0 = get(il.screen.angle0, i);
-            px[14] = angle0;
-            px[15] = get(il.screen.angle1, i);
-            px[16] = float(std::cos(double(k) * angle0));
-            px[17] = float(std::sin(double(k) * angle0));
-            px[18] = 1.0f;
-        }
+    parallelFor(0, int64_t(n), [&](int64_t i) {
+        exrPixel(il, coverage, k, size_t(i), &image.data[size_t(i) * kExrChannels]);
     }, 4096);
     image.attributes.push_back(exrMatrix("worldToCamera", il.worldToCamera));
     image.attributes.push_back(exrMatrix("worldToNDC", il.worldToNdc));
@@ -272,28 +290,34 @@ Image illustrationExr(const Illustration &il) {
 }
 
 InkMaps illustrationInkMaps(const Illustration &il, const styles::HatchStyle &style) {
-    // Through the EXR image itself, so the values (float rounding, zeroed angles off
-    // the object) are exactly those `rosyhatch inspect` would read from the file.
-    const Image exr = illustrationExr(il);
-    const std::vector<std::string> &names = exr.channelNames;
+    // The EXR's values pixel by pixel (exrPixel(), what illustrationExr() stores), so
+    // they are exactly those `rosyhatch inspect` would read from the file (float
+    // rounding, zeroed angles off the object), without the 19-channel image in memory.
+    checkPlanes(il);
+    const size_t n = il.gbuffer.nPixels();
+    const std::vector<float> coverage = combinedCoverage(il.layers);
+    const int k = fieldHarmonic(il.screen.nSym);
+    const std::vector<std::string> &names = illustrationExrChannelNames();
+    ROSY_CHECK_EQ(names.size(), kExrChannels);
     auto channel = [&](const char *name) {
         const auto it = std::find(names.begin(), names.end(), name);
         ROSY_CHECK(it != names.end());
-        const size_t c = size_t(it - names.begin()), nc = size_t(exr.nChannels);
-        std::vector<float> v(size_t(exr.width) * size_t(exr.height));
-        for (size_t i = 0; i < v.size(); ++i) v[i] = exr.data[i * nc + c];
-        return v;
+        return size_t(it - names.begin());
     };
     InkMaps maps;
-    maps.width = exr.width;
-    maps.height = exr.height;
-    maps.hatch0 = channel("ink.hatch0");
-    maps.hatch1 = channel("ink.hatch1");
-    maps.coverage = channel("ink.coverage");
-    maps.target = channel("tone.target");
-    maps.angle0 = channel("field.angle0");
-    maps.angle1 = channel("field.angle1");
-    maps.mask = channel("mask");
+    maps.width = il.gbuffer.width;
+    maps.height = il.gbuffer.height;
+    const std::pair<std::vector<float> *, size_t> outputs[] = {
+        {&maps.hatch0, channel("ink.hatch0")},    {&maps.hatch1, channel("ink.hatch1")},
+        {&maps.coverage, channel("ink.coverage")}, {&maps.target, channel("tone.target")},
+        {&maps.angle0, channel("field.angle0")},   {&maps.angle1, channel("field.angle1")},
+        {&maps.mask, channel("mask")}};
+    for (const auto &[plane, c] : outputs) plane->resize(n);
+    parallelFor(0, int64_t(n), [&](int64_t i) {
+        std::array<float, kExrChannels> px{};
+        exrPixel(il, coverage, k, size_t(i), px.data());
+        for (const auto &[plane, c] : outputs) (*plane)[size_t(i)] = px[c];
+    }, 4096);
     maps.hatchSpacingPx = float(nominalHatchSpacingPx(style)); // the header stores a float
     maps.crossDensity = float(style.crossDensity);
     return maps;

@@ -14,6 +14,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -106,6 +109,41 @@ TEST(RenderScene, OverlappedStagesDrawWhatTheChainDrawsOneAfterTheOther) {
         EXPECT_EQ(illustrationStages, (std::vector<std::string>{"gbuffer", "tone", "screen_field", "hatching",
                                                                 "contours", "raster"}));
     }
+}
+
+TEST(RenderScene, InkMapsAreTheExrsChannels) {
+    // illustrationInkMaps() (compare's seam measure) computes the EXR's values pixel by
+    // pixel instead of building the whole image: the planes must be bit for bit the
+    // image's channels, as `rosyhatch inspect` reads them from the file.
+    const scenes::RenderResult r = scenes::renderScene(scenes::parseScene(kTorus, kScenePath));
+    ASSERT_TRUE(r.illustration.has_value());
+    const renderer::Illustration &il = *r.illustration;
+    const renderer::InkMaps maps = renderer::illustrationInkMaps(il, r.loaded.scene->style.hatch);
+    const renderer::Image exr = renderer::illustrationExr(il);
+    auto channel = [&](const std::string &name) {
+        const auto &names = exr.channelNames;
+        const size_t c = size_t(std::find(names.begin(), names.end(), name) - names.begin());
+        std::vector<float> v;
+        for (size_t i = 0; i < size_t(exr.width) * size_t(exr.height); ++i)
+            v.push_back(exr.data[i * size_t(exr.nChannels) + c]);
+        return v;
+    };
+    auto same = [](const std::vector<float> &a, const std::vector<float> &b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+    };
+    EXPECT_EQ(maps.width, exr.width);
+    EXPECT_EQ(maps.height, exr.height);
+    EXPECT_TRUE(same(maps.hatch0, channel("ink.hatch0")));
+    EXPECT_TRUE(same(maps.hatch1, channel("ink.hatch1")));
+    EXPECT_TRUE(same(maps.coverage, channel("ink.coverage")));
+    EXPECT_TRUE(same(maps.target, channel("tone.target")));
+    EXPECT_TRUE(same(maps.angle0, channel("field.angle0")));
+    EXPECT_TRUE(same(maps.angle1, channel("field.angle1")));
+    EXPECT_TRUE(same(maps.mask, channel("mask")));
+    // The picture has ink, tone and both hatching families: the comparison is not of zeros.
+    EXPECT_GT(*std::max_element(maps.hatch0.begin(), maps.hatch0.end()), 0.0f);
+    EXPECT_GT(*std::max_element(maps.target.begin(), maps.target.end()), 0.0f);
+    EXPECT_GT(std::count(maps.mask.begin(), maps.mask.end(), 1.0f), 0);
 }
 
 TEST(RenderScene, FieldPictureSceneGivesThePictureAndNoStrokes) {
