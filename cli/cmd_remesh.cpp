@@ -34,6 +34,7 @@ struct RemeshCliOptions {
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
     std::string separatrices = "off";
     double adaptiveScale = 0;
+    double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
     int symmetry = 4;
     bool symmetryGiven = false;
     std::vector<std::string> overrides;
@@ -136,6 +137,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.edgeLength = edgeLength;
     ropt.separatrices = opt.separatrices == "on";
     ropt.scaleStrength = opt.adaptiveScale;
+    ropt.anisotropicScale = opt.anisotropicScale;
     ropt.maxVertices = opt.common.maxFaces;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
@@ -189,7 +191,8 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("method", "position-field");
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
-        json.field("separatrices", ropt.separatrices).field("adaptive_scale", ropt.scaleStrength).endObject();
+        json.field("separatrices", ropt.separatrices).field("adaptive_scale", ropt.scaleStrength);
+        json.field("anisotropic_scale", ropt.anisotropicScale).endObject();
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
         json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
         json.key("repairs").beginObject();
@@ -227,6 +230,12 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     sub->add_option("--adaptive-scale", opt->adaptiveScale,
                     "0 (default): edges of length L everywhere; x in (0, 2]: spacing L exp(x phi), phi absorbing the "
                     "field's curl: fewer irregular vertices, more spread in edge length (docs/remeshing.md)")
+        ->check(CLI::Range(0.0, 2.0))
+        ->capture_default_str();
+    sub->add_option("--anisotropic-scale", opt->anisotropicScale,
+                    "mu in [0, 2]: the spacings along the two field directions scaled apart, each by the scale that "
+                    "closes its lattice lines (fewer irregular vertices, more spread in edge length); 0: L along "
+                    "both; N = 4 only (docs/remeshing.md, Anisotropic scale)")
         ->check(CLI::Range(0.0, 2.0))
         ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")

@@ -32,6 +32,7 @@ TEST(RemeshCli, SceneToObjWithReport) {
     EXPECT_EQ(j["method"], "position-field");
     EXPECT_EQ(j["options"]["symmetry"], 4);
     EXPECT_EQ(j["options"]["adaptive_scale"], 0.0);
+    EXPECT_EQ(j["options"]["anisotropic_scale"], 0.3); // RemeshOptions' default
     const auto &q = j["quality"];
     EXPECT_TRUE(q["topology"]["closed"].get<bool>());
     EXPECT_EQ(q["topology"]["euler_characteristic"], 0);
@@ -46,6 +47,20 @@ TEST(RemeshCli, SceneToObjWithReport) {
     int faces = 0;
     for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
     EXPECT_EQ(faces, q["faces"].get<int>());
+}
+
+// --anisotropic-scale reaches the remesher: 0 draws the lattice with L along both
+// directions, which on a torus (parallels of radii 1 ± r) is another mesh.
+TEST(RemeshCli, AnisotropicScaleFlagReachesTheRemesher) {
+    const fs::path dir = workDir("aniso");
+    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const CliRun a = runRosyhatch(dir, "remesh torus.yaml -o a.obj --edge 4% --quiet", "a");
+    const CliRun b =
+        runRosyhatch(dir, "remesh torus.yaml -o b.obj --edge 4% --anisotropic-scale 0 --report b.json --quiet", "b");
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "b.json"))["options"]["anisotropic_scale"], 0.0);
+    EXPECT_NE(slurp(dir / "a.obj"), slurp(dir / "b.obj"));
 }
 
 TEST(RemeshCli, SixRosyToOffAndPly) {
@@ -74,6 +89,8 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --separatrices maybe", "--separatrices"},
         {"remesh s.yaml -o out.obj --adaptive-scale 3", "--adaptive-scale"},
         {"remesh s.yaml -o out.obj --adaptive-scale -0.5", "--adaptive-scale"},
+        {"remesh s.yaml -o out.obj --anisotropic-scale 2.5", "--anisotropic-scale"},
+        {"remesh s.yaml -o out.obj --anisotropic-scale -1", "--anisotropic-scale"},
         {"remesh missing.off -o out.obj", "missing.off"},
         {"remesh s.yaml -o out.obj --image out.gif", "--image"},
     };
