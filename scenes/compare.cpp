@@ -155,7 +155,7 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                                                        true, true, /*progress=*/false);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.
-            panel.seamFraction = renderer::inspectInk(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;
+            panel.seamFraction = renderer::inspectSeams(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;
             panel.strokesNearSingularities = il.hatch.strokesNearSingularities;
             panel.stubFraction = il.hatch.stubFraction;
             panel.picture = std::move(il.composite);

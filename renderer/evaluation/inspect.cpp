@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <limits>
 
 namespace rosy::renderer {
@@ -378,20 +379,46 @@ void measureSeams(const InkMaps &maps, Grid g, const InspectOptions &options, In
     res.seamFraction = crossPixels > 0 ? double(seam) / double(crossPixels) : kNaN;
 }
 
+/// `channels` of `maps`: empty ones zero-filled, non-finite values zeroed; a
+/// non-empty channel of the wrong size is a caller bug.
+void sanitize(InkMaps &maps, Grid g, std::initializer_list<std::vector<float> InkMaps::*> channels) {
+    for (std::vector<float> InkMaps::*c : channels) {
+        std::vector<float> &v = maps.*c;
+        if (v.empty()) v.assign(g.size(), 0.0f);
+        ROSY_CHECK_EQ(v.size(), g.size());
+        for (float &x : v)
+            if (!std::isfinite(x)) x = 0.0f;
+    }
+}
+
 } // namespace
+
+InspectResult inspectSeams(const InkMaps &mapsIn, const InspectOptions &options) {
+    InspectResult res;
+    res.alignmentMedianDeg = res.alignmentP90Deg = res.toneMae = res.spacingCv = res.seamFraction = kNaN;
+    res.measuredSpacingPx = res.hatchSpacingPx = kNaN;
+    const Grid g{std::max(0, mapsIn.width), std::max(0, mapsIn.height)};
+    if (g.size() == 0) return res;
+    // Only the three channels the seams read are copied.
+    InkMaps maps;
+    maps.width = mapsIn.width;
+    maps.height = mapsIn.height;
+    maps.coverage = mapsIn.coverage;
+    maps.target = mapsIn.target;
+    maps.mask = mapsIn.mask;
+    sanitize(maps, g, {&InkMaps::coverage, &InkMaps::target, &InkMaps::mask});
+    res.crossDensity = std::isfinite(mapsIn.crossDensity) ? mapsIn.crossDensity : options.crossDensity;
+    measureSeams(maps, g, options, res);
+    return res;
+}
 
 InspectResult inspectInk(const InkMaps &mapsIn, const InspectOptions &options) {
     InspectResult res;
     InkMaps maps = mapsIn;
     const Grid g{std::max(0, maps.width), std::max(0, maps.height)};
     const size_t n = g.size();
-    for (std::vector<float> *v : {&maps.hatch0, &maps.hatch1, &maps.coverage, &maps.target, &maps.angle0,
-                                  &maps.angle1, &maps.mask}) {
-        if (v->empty()) v->assign(n, 0.0f);
-        ROSY_CHECK_EQ(v->size(), n);
-        for (float &x : *v)
-            if (!std::isfinite(x)) x = 0.0f;
-    }
+    sanitize(maps, g, {&InkMaps::hatch0, &InkMaps::hatch1, &InkMaps::coverage, &InkMaps::target, &InkMaps::angle0,
+                       &InkMaps::angle1, &InkMaps::mask});
     res.alignmentMedianDeg = res.alignmentP90Deg = res.toneMae = res.spacingCv = res.seamFraction = kNaN;
     res.measuredSpacingPx = kNaN;
     res.hatchSpacingPx = maps.hatchSpacingPx > 0 ? maps.hatchSpacingPx : options.fallbackSpacingPx;

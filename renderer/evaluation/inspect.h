@@ -119,6 +119,12 @@ Image seamPicture(const InkMaps &maps, const InspectResult &result);
 ///   empty maps count as zeros.
 InspectResult inspectInk(const InkMaps &maps, const InspectOptions &options = {});
 
+/// seam_fraction alone (seamFraction, seamPixels, crossPixels, crossDensity and,
+/// with keepSeamMask, seamMask; the other measures NaN or 0): the same figures as
+/// inspectInk() gives, reading only the coverage, target and mask channels. For
+/// callers that need no more, such as compare's panels.
+InspectResult inspectSeams(const InkMaps &maps, const InspectOptions &options = {});
+
 /// The result as a JSON object with keys alignment_median_deg, alignment_p90_deg,
 /// tone_mae, spacing_cv, ink_outside_silhouette_px, seam_fraction, then the sample counts and
 /// spacings; unmeasurable values are null.

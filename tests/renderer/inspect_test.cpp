@@ -299,6 +299,29 @@ TEST(InspectInk, ACrackThroughBothFamiliesIsASeam) {
     EXPECT_EQ(red, size_t(r.seamPixels));
 }
 
+TEST(InspectInk, SeamsAloneReadOnlyCoverageTargetAndMask) {
+    // compare's panels need seam_fraction only: inspectSeams() gives inspectInk()'s
+    // seam figures with the hatch layers and angles absent.
+    InkMaps m = crossHatched(200);
+    crack(m, 65 * kDeg, 10.0, 4.0);
+    InspectOptions o;
+    o.keepSeamMask = true;
+    const InspectResult full = inspectInk(m, o);
+    InkMaps bare = m;
+    bare.hatch0.clear();
+    bare.hatch1.clear();
+    bare.angle0.clear();
+    bare.angle1.clear();
+    const InspectResult seams = inspectSeams(bare, o);
+    EXPECT_GT(seams.seamPixels, 500); // the crack, as in ACrackThroughBothFamiliesIsASeam
+    EXPECT_EQ(seams.seamPixels, full.seamPixels);
+    EXPECT_EQ(seams.crossPixels, full.crossPixels);
+    EXPECT_EQ(seams.seamFraction, full.seamFraction);
+    EXPECT_EQ(seams.seamMask, full.seamMask);
+    EXPECT_TRUE(std::isnan(seams.toneMae));
+    EXPECT_EQ(inspectSeams(crossHatched(200)).seamPixels, 0);
+}
+
 TEST(InspectInk, OneMissingLineOrASmallHoleIsNoSeam) {
     // A single missing line (a gap of 2 spacings in one family) keeps the other
     // family's ink: blurred coverage stays above a third of the target.
