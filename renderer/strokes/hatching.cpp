@@ -39,6 +39,19 @@ constexpr double kMaxStepPx = 2.0;
 constexpr double kDepthJump = 0.03;
 constexpr double kDepthJumpWithNormal = 0.01;
 constexpr double kNormalJumpCos = 0.5;
+/// Edge pixels are marked 1 (background, or a depth change with a normal turn: a
+/// crease or a fold) or kDepthEdge (a pure depth jump: one surface hides another).
+/// Stroke centres keep a guard band from every edge, except in the hole pass at a
+/// depth jump, whose both sides are surface (ink over the edge stays on the object):
+/// there a hole line may run up to the edge pixels themselves (print mode, whose band
+/// is a distance, keeps it in every pass). Without
+/// that, the band on both sides and the lines' d_test leave a strip 6–10 px wide
+/// along an occluding edge inside dark tone, too narrow for a hole seed's
+/// clearance, which reads as a light crack where no contour covers it.
+constexpr uint8_t kDepthEdge = 2;
+/// Bits of the blocked map (Hatcher::m_blocked): blocked for the line passes, for the
+/// hole pass.
+constexpr uint8_t kBlockLines = 1, kBlockHoles = 2, kBlockAll = kBlockLines | kBlockHoles;
 /// A seed keeps this many d_sep from same-direction lines: slightly under one, so a
 /// seed placed at exactly d_sep from its parent is not rejected by rounding; the hole
 /// filling pass (Hatcher::fillHoles) accepts less room.
@@ -457,9 +470,12 @@ public:
     /// dark region such a wedge reads as a light crack. Any point of cross tone with no
     /// line of either family within kFillClearance d_sep is seeded along both screen
     /// directions with that clearance (lines still keep d_test from their neighbours).
+    /// Its lines may run up to a depth jump's edge pixels (kDepthEdge, kBlockHoles),
+    /// into the strip the line passes' guard band leaves on each side of it.
     void fillHoles() {
         m_family = 0;
         m_firstFamilyOnly = false;
+        m_blockMask = kBlockHoles; // lines may run up to depth jumps (kDepthEdge)
         const double stride = std::max(1.0, m_style.minSpacingPx);
         for (double y = 0.5 * stride; y < m_field.height; y += stride)
             for (double x = 0.5 * stride; x < m_field.width; x += stride) {
@@ -536,7 +552,7 @@ private:
     /// nearest edge pixel's square, read bilinearly from m_edgeDist at the pixel
     /// corners), not whole pixels.
     bool blockedAt(const Vec2 &q, int i) const {
-        if (m_blocked[size_t(i)]) return true;
+        if (m_blocked[size_t(i)] & m_blockMask) return true;
         if (m_edgeDist.empty()) return false;
         const int w = m_field.width + 1, h = m_field.height + 1; // the corner grid
         const double fx = std::clamp(q.x(), 0.0, double(w - 1)), fy = std::clamp(q.y(), 0.0, double(h - 1));
@@ -789,21 +805,27 @@ private:
     void buildBlocked(const GBuffer &g) {
         const int w = m_field.width, h = m_field.height;
         std::vector<uint8_t> edge(size_t(w) * size_t(h), 0);
+        // Edge pixels: 1 for the background (or no field) and for both pixels of a
+        // crease, kDepthEdge for both pixels of a depth jump.
         for (size_t i = 0; i < edge.size(); ++i) edge[i] = (g.faceId[i] < 0 || !m_field.valid[i]) ? 1 : 0;
-        auto jump = [&](size_t a, size_t b) {
-            if (g.faceId[a] < 0 || g.faceId[b] < 0) return false;
+        auto jump = [&](size_t a, size_t b) -> uint8_t {
+            if (g.faceId[a] < 0 || g.faceId[b] < 0) return 0;
             const double da = g.depth[a], db = g.depth[b];
             const double rel = std::abs(da - db) / std::max(1e-12, std::min(std::abs(da), std::abs(db)));
             // Per traced pixel: print mode's pixels are 1 / pixelScale style pixels, over
             // which a smooth surface changes depth 1 / pixelScale times as much.
-            return rel > kDepthJump * m_jumpScale ||
-                   (rel > kDepthJumpWithNormal * m_jumpScale && g.normal(a).dot(g.normal(b)) < kNormalJumpCos);
+            if (rel > kDepthJump * m_jumpScale) return kDepthEdge;
+            return rel > kDepthJumpWithNormal * m_jumpScale && g.normal(a).dot(g.normal(b)) < kNormalJumpCos ? 1 : 0;
         };
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t i = size_t(y) * size_t(w) + size_t(x);
-                if (x + 1 < w && jump(i, i + 1)) edge[i] = edge[i + 1] = 1;
-                if (y + 1 < h && jump(i, i + size_t(w))) edge[i] = edge[i + size_t(w)] = 1;
+                // A pixel on a banded edge keeps its band (max: 1 wins over kDepthEdge).
+                auto mark = [&](size_t j, uint8_t e) {
+                    if (e && edge[j] != 1) edge[j] = e;
+                };
+                if (x + 1 < w) { const uint8_t e = jump(i, i + 1); mark(i, e); mark(i + 1, e); }
+                if (y + 1 < h) { const uint8_t e = jump(i, i + size_t(w)); mark(i, e); mark(i + size_t(w), e); }
             }
         if (m_style.pixelScale != 1.0) {
             // Print mode: a band of one style pixel (pixelScale px, any fraction),
@@ -821,9 +843,10 @@ private:
                 }
                 const uint8_t *above = &edge[size_t(y - 1) * size_t(w)], *below = &edge[size_t(y) * size_t(w)];
                 row[0] = row[w] = 1;
-                for (int x = 1; x < w; ++x) row[x] = above[x - 1] | above[x] | below[x - 1] | below[x];
+                for (int x = 1; x < w; ++x) row[x] = (above[x - 1] | above[x] | below[x - 1] | below[x]) != 0;
             }, 8);
-            m_blocked = std::move(edge);
+            m_blocked.resize(edge.size());
+            for (size_t i = 0; i < edge.size(); ++i) m_blocked[i] = edge[i] != 0 ? kBlockAll : 0;
             m_edgeDist = edgeDistanceEighths(corners, w + 1, h + 1);
             return;
         }
@@ -832,13 +855,18 @@ private:
         // width stays on the object. Separable: a horizontal then a vertical
         // (2 m_guardPx + 1)-tap maximum; the image border counts as edge.
         const int r = m_guardPx;
+        // Bit kBlockLines: any edge within the band. Bit kBlockHoles: the edge pixels
+        // themselves, and the band only from the background and creases (see kDepthEdge).
         std::vector<uint8_t> rows(edge.size(), 0);
         parallelFor(0, h, [&](int64_t y) {
             const uint8_t *e = &edge[size_t(y) * size_t(w)];
             uint8_t *o = &rows[size_t(y) * size_t(w)];
             for (int x = 0; x < w; ++x) {
                 uint8_t v = 0;
-                for (int d = -r; d <= r && !v; ++d) v = (x + d < 0 || x + d >= w) ? 1 : e[x + d];
+                for (int d = -r; d <= r && v != kBlockAll; ++d) {
+                    const uint8_t ed = (x + d < 0 || x + d >= w) ? 1 : e[x + d];
+                    v |= ed == 0 ? 0 : ed == kDepthEdge ? kBlockLines : kBlockAll;
+                }
                 o[x] = v;
             }
         }, 8);
@@ -846,9 +874,9 @@ private:
         parallelFor(0, h, [&](int64_t y) {
             uint8_t *o = &m_blocked[size_t(y) * size_t(w)];
             for (int x = 0; x < w; ++x) {
-                uint8_t v = 0;
-                for (int d = -r; d <= r && !v; ++d)
-                    v = (y + d < 0 || y + d >= h) ? 1 : rows[size_t(y + d) * size_t(w) + size_t(x)];
+                uint8_t v = edge[size_t(y) * size_t(w) + size_t(x)] != 0 ? kBlockAll : 0;
+                for (int d = -r; d <= r && v != kBlockAll; ++d)
+                    v |= (y + d < 0 || y + d >= h) ? kBlockAll : rows[size_t(y + d) * size_t(w) + size_t(x)];
                 o[x] = v;
             }
         }, 8);
@@ -859,7 +887,8 @@ private:
     const styles::HatchStyle &m_style;
     uint32_t m_seed;
     SampleGrid m_grid;
-    std::vector<uint8_t> m_blocked;
+    std::vector<uint8_t> m_blocked;  // kBlockLines / kBlockHoles per pixel
+    uint8_t m_blockMask = kBlockLines; // the bit the current pass tests
     std::vector<float> m_crossWeight; // crossWeight() per pixel
     std::vector<double> m_spacing[2]; // familySpacingPx() per family and pixel (double, as measured)
     std::vector<Disc> m_discs;
