@@ -102,10 +102,10 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     out.screen = computeScreenField(out.gbuffer, *in.frames, *in.field, *in.singularities, camera);
     lap("screen_field");
 
-    // Contours left by beginIllustration(): a task beside the hatching, whose tracer
-    // is sequential (after the screen field, whose loops take every core). Both read
-    // the G-buffer; the task writes only the contour members. If the hatching throws,
-    // the guard lets the task end before `out` goes.
+    // Contours left by beginIllustration(): a task beside the hatching's tracer, which
+    // is sequential; started once the hatcher's per-pixel maps are built, as their
+    // loops take every core. Both read the G-buffer; the task writes only the contour
+    // members. If the hatching throws, the guard lets the task end before `out` goes.
     tbb::task_group contourTask;
     struct WaitForTask {
         tbb::task_group &task;
@@ -118,19 +118,26 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     } waitForTask{contourTask};
     double contourMs = 0;
     const bool contoursHere = out.contoursPending;
-    if (contoursHere) {
-        ROSY_CHECK(in.mesh && in.scene);
+    if (contoursHere) ROSY_CHECK(in.mesh && in.scene);
+    auto startContours = [&] {
+        if (!contoursHere) return;
         contourTask.run([&] {
             const auto start = Clock::now();
             out.contourStrokes =
                 extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
             contourMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         });
-    }
+    };
 
     styles::HatchStyle hatchStyle = in.style.hatch;
-    out.strokes =
-        isolated([&] { return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed); });
+    bool contoursStarted = false;
+    out.strokes = isolated([&] {
+        return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed, nullptr, [&] {
+            startContours();
+            contoursStarted = true;
+        });
+    });
+    ROSY_CHECK(contoursStarted); // traceHatches() calls whileTracing on every path that returns
     if (hatchStyle.calibrateInk) {
         // Print mode: how much ink a Jobard-Lefer tracing lays down for the spacings
         // the tone asks for depends on the picture's size against them (line ends at

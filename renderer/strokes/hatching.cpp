@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/pixel_array.h"
 
 #include <algorithm>
 #include <cmath>
@@ -116,6 +117,8 @@ struct Sample {
     int stroke;
     int family;
     double dTest; // d_test at the sample's own pixel
+    int index;    // place in its stroke's trace order: the seed, forward samples, backward ones
+    int crosses;  // an earlier first-family line crossing it, or -1 (Hatcher::relabelCrossings)
 };
 
 /// Uniform grid over the image holding the samples by cell. Samples are only appended
@@ -421,8 +424,10 @@ public:
         m_offSin = std::sin(a);
         m_rotated = style.angleOffsetDeg != 0.0;
         buildBlocked(gbuffer);
-        m_crossWeight.resize(field.nPixels());
-        for (std::vector<double> &sp : m_spacing) sp.resize(field.nPixels());
+        // Kernel memory in huge pages (PixelArray): no serial fill before the loop,
+        // which writes every pixel, and fewer TLB misses in the tracer's reads.
+        m_crossWeight = PixelArray<float>(field.nPixels());
+        for (PixelArray<double> &sp : m_spacing) sp = PixelArray<double>(field.nPixels());
         parallelFor(0, int64_t(field.nPixels()), [&](int64_t ii) {
             const size_t i = size_t(ii);
             const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
@@ -477,18 +482,39 @@ public:
         m_firstFamilyOnly = false;
         m_blockMask = kBlockHoles; // lines may run up to depth jumps (kDepthEdge)
         const double stride = std::max(1.0, m_style.minSpacingPx);
-        for (double y = 0.5 * stride; y < m_field.height; y += stride)
-            for (double x = 0.5 * stride; x < m_field.width; x += stride) {
-                const Vec2 q(x, y);
+        // The scan's coordinates, summed as the line passes' scan sums them.
+        std::vector<double> xs, ys;
+        for (double x = 0.5 * stride; x < m_field.width; x += stride) xs.push_back(x);
+        for (double y = 0.5 * stride; y < m_field.height; y += stride) ys.push_back(y);
+        const int nx = int(xs.size()), ny = int(ys.size());
+        // Whether scan point (x, y) is a hole now: dark enough, eligible, no line within
+        // the clearance. Lines only come, never go (between strokes), so a point that is
+        // no hole now never becomes one: the points are first tested all at once, in
+        // parallel, and the sequential pass below tests again only those that were.
+        auto hole = [&](const Vec2 &q, int i) {
+            // Single tone is filled only where the tone is cross-hatching's but the
+            // two screen directions have folded together: the first family carries
+            // dark tone alone there, and a hole reads as a crack as in cross tone.
+            if (i < 0 || (singleTone(i) && densityAt(i) < m_style.crossDensity)) return false;
+            if (!eligible(q)) return false;
+            const double r = kFillClearance * spacingAt(i);
+            return !m_grid.any(q, r, [&](const Sample &s) { return (s.p - q).squaredNorm() < r * r; });
+        };
+        m_threshold = baseThreshold();
+        std::vector<uint8_t> candidate(size_t(nx) * size_t(ny), 0);
+        parallelFor(0, ny, [&](int64_t iy) {
+            for (int ix = 0; ix < nx; ++ix) {
+                const Vec2 q(xs[size_t(ix)], ys[size_t(iy)]);
+                candidate[size_t(iy) * size_t(nx) + size_t(ix)] = hole(q, pixelIndex(q));
+            }
+        }, 4);
+        for (int iy = 0; iy < ny; ++iy)
+            for (int ix = 0; ix < nx; ++ix) {
+                if (!candidate[size_t(iy) * size_t(nx) + size_t(ix)]) continue;
+                const Vec2 q(xs[size_t(ix)], ys[size_t(iy)]);
                 const int i = pixelIndex(q);
-                // Single tone is filled only where the tone is cross-hatching's but the
-                // two screen directions have folded together: the first family carries
-                // dark tone alone there, and a hole reads as a crack as in cross tone.
-                if (i < 0 || (singleTone(i) && densityAt(i) < m_style.crossDensity)) continue;
                 m_threshold = baseThreshold();
-                if (!eligible(q)) continue;
-                const double r = kFillClearance * spacingAt(i);
-                if (m_grid.any(q, r, [&](const Sample &s) { return (s.p - q).squaredNorm() < r * r; })) continue;
+                if (!hole(q, i)) continue;
                 const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
                 Vec2 h(d0.x(), d0.y());
                 if (m_rotated) h = rotate(h, m_offCos, m_offSin);
@@ -501,26 +527,28 @@ public:
     /// lines traced before it (where two fronts of the cross field's labels meet); such
     /// a line is cross-hatching, so when most of its samples cross earlier first-family
     /// lines it moves to family 1. Creation order decides, so the result is deterministic.
+    ///
+    /// The tracer noted, for each first-family sample in cross tone, one earlier
+    /// first-family line crossing it (Sample::crosses, as if no stroke had moved; see
+    /// crossesEarlier()). Here, in creation order, a sample counts when that line has
+    /// not moved, and only when it has is the sample searched again for one that has
+    /// not: the same count as searching every sample here.
     void relabelCrossings() {
-        std::vector<uint8_t> moved(m_strokes.size(), 0);
-        for (size_t k = 0; k < m_strokes.size(); ++k) {
+        const size_t n = m_strokes.size();
+        std::vector<uint8_t> moved(n, 0);
+        for (size_t k = 0; k < n; ++k) {
             if (m_strokes[k].family != 0) continue;
-            const std::vector<Vec2> &pts = m_strokes[k].points;
-            const std::vector<Vec2> &tans = m_tangents[k];
+            const std::vector<Sample> &samples = m_samples[k];
             size_t crossing = 0;
-            for (size_t v = 0; v < pts.size(); ++v) {
-                const int i = pixelIndex(pts[v]);
-                // In single tone the tracer kept every first-family line d_test clear of
-                // the earlier ones whatever their direction: nothing to find there.
-                if (i < 0 || singleTone(i)) continue;
-                const double r = kTestRatio * m_spacing[0][size_t(i)];
-                if (m_grid.any(pts[v], r, [&](const Sample &s) {
-                        return s.stroke < int(k) && s.family == 0 && !moved[size_t(s.stroke)] &&
-                               std::abs(s.t.dot(tans[v])) < kSameFamilyCos && (s.p - pts[v]).squaredNorm() < r * r;
+            for (const Sample &v : samples) {
+                if (v.crosses < 0) continue;
+                if (!moved[size_t(v.crosses)] ||
+                    m_grid.any(v.p, v.dTest, [&](const Sample &s) {
+                        return crossesEarlier(s, int(k), v.p, v.t, v.dTest) && !moved[size_t(s.stroke)];
                     }))
                     ++crossing;
             }
-            if (2 * crossing > pts.size()) {
+            if (2 * crossing > samples.size()) {
                 moved[k] = 1;
                 m_strokes[k].family = 1;
             }
@@ -592,14 +620,9 @@ private:
         return true;
     }
 
-    /// Would a point q heading along t come within r of a line of "the same family"?
-    /// Same family = tangent within 45° (mod π); where only one family is wanted,
-    /// every family-0 sample counts for family 0, so mid-tones never cross.
-    bool tooClose(const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
-        return m_grid.anyWithin(q, r, [&](const Sample &s) { return blocks(s, q, t, r, stroke, arc, singleTone); });
-    }
-
-    /// Sample s keeps q (heading t, own d_test r) away: the test of tooClose().
+    /// Would sample s keep a point q heading along t (own d_test r) away? Only a line of
+    /// "the same family" does: tangent within 55° (mod π); where only one family is
+    /// wanted, every family-0 sample counts for family 0, so mid-tones never cross.
     bool blocks(const Sample &s, const Vec2 &q, const Vec2 &t, double r, int stroke, double arc, bool singleTone) const {
         const bool sameDirection = std::abs(s.t.dot(t)) >= kSameFamilyCos;
         if (!sameDirection && !singleTone) return false; // cross tone: other directions never block
@@ -612,25 +635,66 @@ private:
         return sameDirection || s.family == 0 || s.family == m_family;
     }
 
-    /// tooClose() for a seed (no stroke of its own). Seeds beside a parent line come in
-    /// a row one step apart and are mostly rejected by the same neighbouring line, so
-    /// the last two samples that rejected one are tried first. The answer is the same
-    /// (some sample blocks or none does); cached samples are dropped whenever samples
-    /// are removed from the grid, so a cached sample is always still in it.
+    /// Sample s belongs to a first-family line traced before `stroke` that crosses the
+    /// point q heading along t: not within 55° of t, and closer than r (q's d_test).
+    /// relabelCrossings() counts the first-family samples in cross tone that have one.
+    static bool crossesEarlier(const Sample &s, int stroke, const Vec2 &q, const Vec2 &t, double r) {
+        return s.stroke < stroke && s.family == 0 && std::abs(s.t.dot(t)) < kSameFamilyCos &&
+               (s.p - q).squaredNorm() < r * r;
+    }
+
+    /// Whether a new sample at pixel i notes Sample::crosses (else -1): relabelCrossings()
+    /// counts only the first family's samples in cross tone.
+    bool notesCrossings(int i) const { return m_family == 0 && !singleTone(i); }
+
+    /// Whether a seed (no stroke of its own) at q heading along t is too close to a line (blocks()). Seeds beside a parent line come in
+    /// a row one step apart and are mostly rejected by the same neighbouring line,
+    /// sample after sample along it; so the samples of the last two lines that rejected
+    /// a seed, around the one that did, are tried first. The answer is the same (some
+    /// sample blocks or none does): between strokes every sample in the grid belongs to
+    /// an accepted stroke, whose samples m_samples holds and the grid never drops.
     bool seedTooClose(const Vec2 &q, const Vec2 &t, double r, bool singleTone) {
-        for (int k = 0; k < m_nBlockers; ++k)
-            if (blocks(m_blockers[k], q, t, r, -1, 0.0, singleTone)) return true;
+        auto blocking = [&](const Sample &s) { return blocks(s, q, t, r, -1, 0.0, singleTone); };
+        for (int k = 0; k < 2; ++k)
+            if (alongHint(m_blockers[k], 2, blocking)) {
+                if (k == 1) std::swap(m_blockers[0], m_blockers[1]);
+                return true;
+            }
         const Sample *hit = nullptr;
         m_grid.anyWithin(q, r, [&](const Sample &s) {
-            if (!blocks(s, q, t, r, -1, 0.0, singleTone)) return false;
+            if (!blocking(s)) return false;
             hit = &s;
             return true;
         });
         if (!hit) return false;
-        m_blockers[1] = m_blockers[0];
-        m_blockers[0] = *hit;
-        m_nBlockers = std::min(m_nBlockers + 1, 2);
+        if (m_blockers[0].stroke != hit->stroke) m_blockers[1] = m_blockers[0];
+        m_blockers[0] = hintAt(*hit);
         return true;
+    }
+
+    /// Where along which accepted line a query last found its answer (m_samples).
+    struct LineHint {
+        int stroke = -1, index = 0;
+    };
+    /// A hint to sample s, which must be in the grid between strokes: then it belongs
+    /// to an accepted stroke, whose samples m_samples holds and the grid never drops.
+    LineHint hintAt(const Sample &s) const {
+        ROSY_CHECK_LT(size_t(s.stroke), m_samples.size());
+        return {s.stroke, s.index};
+    }
+    /// Whether pred holds for one of the samples within `reach` places of the hint's
+    /// along its line (nearest first); the hint moves to it.
+    template <typename Pred> bool alongHint(LineHint &hint, int reach, Pred &&pred) const {
+        if (hint.stroke < 0) return false;
+        const std::vector<Sample> &line = m_samples[size_t(hint.stroke)];
+        const int n = int(line.size());
+        for (int d = 0; d <= reach; ++d)
+            for (int v : {hint.index + d, hint.index - d}) {
+                if (v < 0 || v >= n || !pred(line[size_t(v)])) continue;
+                hint.index = v;
+                return true;
+            }
+        return false;
     }
 
     /// Where the tone asks for one family, or the two screen directions have folded
@@ -639,17 +703,30 @@ private:
         return hatchFamilies(densityAt(i), m_style) < 2 || m_crossWeight[size_t(i)] <= 0.0f;
     }
 
+    /// Whether a sample for which `accept` holds lies closer than r to q. Scan seeds
+    /// one stride apart are mostly kept away by the same line: its samples around the
+    /// one that answered last are tried first (m_scanHint); the answer is the same.
+    template <typename Accept> bool anyNear(const Vec2 &q, double r, Accept &&accept) {
+        auto near = [&](const Sample &s) { return accept(s) && (s.p - q).squaredNorm() < r * r; };
+        if (alongHint(m_scanHint, 6, near)) return true;
+        const Sample *hit = nullptr;
+        m_grid.any(q, r, [&](const Sample &s) {
+            if (!near(s)) return false;
+            hit = &s;
+            return true;
+        });
+        if (hit) m_scanHint = hintAt(*hit);
+        return hit != nullptr;
+    }
+
     /// Heading for a seed with no parent line: continue the look of nearby lines
     /// (family 1 crosses family 0), else the field's labelled direction.
-    bool scanHeading(const Vec2 &q, Vec2 &heading) const {
+    bool scanHeading(const Vec2 &q, Vec2 &heading) {
         const int i = pixelIndex(q);
         const double dSep = spacingAt(i);
         // A same-family line within d_sep would reject any seed here: skip the wider search.
         const double rNear = 0.98 * dSep;
-        if (m_grid.any(q, rNear, [&](const Sample &s) {
-                return s.family == m_family && (s.p - q).squaredNorm() < rNear * rNear;
-            }))
-            return false;
+        if (anyNear(q, rNear, [&](const Sample &s) { return s.family == m_family; })) return false;
         // The nearest line of the same family within 2 d_sep gives the heading; else
         // the nearest of the other family (only looked for then).
         const double r = 2.0 * dSep;
@@ -722,9 +799,9 @@ private:
     }
 
     /// Integrates from p along heading h (RK2 midpoint on the line field), appending
-    /// samples with arc lengths sign * (distance from the seed).
+    /// samples with arc lengths sign * (distance from the seed) and indices from firstIndex.
     /// Returns whether the line stopped at a singularity's keep-away disc.
-    bool extend(Vec2 p, Vec2 h, double sign, int stroke, std::vector<Sample> &out) {
+    bool extend(Vec2 p, Vec2 h, double sign, int stroke, int firstIndex, std::vector<Sample> &out) {
         const int maxSteps = int(4.0 * (m_field.width + m_field.height) / m_minStep);
         double arc = 0;
         for (int it = 0; it < maxSteps; ++it) {
@@ -741,9 +818,19 @@ private:
             if (!eligible(q)) return inDisc(q);
             const int iq = pixelIndex(q);
             const double r = kTestRatio * spacingAt(iq);
-            if (tooClose(q, v2, r, stroke, sign * (arc + step), singleTone(iq))) break;
+            // Too close to a line (blocks())? Noting on the way a crossing line for
+            // relabelCrossings(): when nothing blocks, the walk has seen every sample within r.
+            const bool single = singleTone(iq), note = notesCrossings(iq);
+            const double qArc = sign * (arc + step);
+            int crossed = -1;
+            if (m_grid.anyWithin(q, r, [&](const Sample &s) {
+                    if (blocks(s, q, v2, r, stroke, qArc, single)) return true;
+                    if (note && crossed < 0 && crossesEarlier(s, stroke, q, v2, r)) crossed = s.stroke;
+                    return false;
+                }))
+                break;
             arc += step;
-            Sample s{q, v2, sign * arc, stroke, m_family, r};
+            Sample s{q, v2, sign * arc, stroke, m_family, r, firstIndex + int(out.size()), crossed};
             m_grid.add(s);
             out.push_back(s);
             p = q;
@@ -755,11 +842,17 @@ private:
     bool traceStroke(const Vec2 &seed, const Vec2 &dir, Pass pass) {
         const int id = int(m_strokes.size());
         const size_t before = m_grid.size();
-        Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed))};
+        Sample s0{seed, dir, 0.0, id, m_family, kTestRatio * spacingAt(pixelIndex(seed)), 0, -1};
+        if (notesCrossings(pixelIndex(seed)))
+            m_grid.any(seed, s0.dTest, [&](const Sample &s) {
+                if (!crossesEarlier(s, id, seed, dir, s0.dTest)) return false;
+                s0.crosses = s.stroke;
+                return true;
+            });
         m_grid.add(s0);
         std::vector<Sample> fwd, bwd;
-        const bool bluntEnd = extend(seed, dir, 1.0, id, fwd);
-        const bool bluntStart = extend(seed, -dir, -1.0, id, bwd);
+        const bool bluntEnd = extend(seed, dir, 1.0, id, 1, fwd);
+        const bool bluntStart = extend(seed, -dir, -1.0, id, 1 + int(fwd.size()), bwd);
         const double length = (fwd.empty() ? 0.0 : fwd.back().arc) - (bwd.empty() ? 0.0 : bwd.back().arc);
         // Shortest stroke kept: the style's minLengthPx, and kStubLengthRatio times its
         // mean d_sep (as measureHatches() takes it), so no dash much shorter than the
@@ -777,7 +870,6 @@ private:
         const double minLength = std::max(styleFloor, (holes ? kFillMinLengthRatio : kStubLengthRatio) * meanDSep);
         if (length < std::max(minLength, 1e-9) || fwd.size() + bwd.size() < 1) {
             while (m_grid.size() > before) m_grid.popBack();
-            m_nBlockers = 0; // they may have been among the removed samples
             return false;
         }
         Stroke stroke;
@@ -798,16 +890,21 @@ private:
         }
         m_strokes.push_back(std::move(stroke));
         m_tangents.push_back(std::move(tangents));
+        std::vector<Sample> samples;
+        samples.reserve(1 + fwd.size() + bwd.size());
+        samples.push_back(s0);
+        samples.insert(samples.end(), fwd.begin(), fwd.end());
+        samples.insert(samples.end(), bwd.begin(), bwd.end());
+        m_samples.push_back(std::move(samples));
         m_blunt.push_back(uint8_t((bluntStart ? 1 : 0) | (bluntEnd ? 2 : 0)));
         return true;
     }
 
     void buildBlocked(const GBuffer &g) {
         const int w = m_field.width, h = m_field.height;
-        std::vector<uint8_t> edge(size_t(w) * size_t(h), 0);
         // Edge pixels: 1 for the background (or no field) and for both pixels of a
-        // crease, kDepthEdge for both pixels of a depth jump.
-        for (size_t i = 0; i < edge.size(); ++i) edge[i] = (g.faceId[i] < 0 || !m_field.valid[i]) ? 1 : 0;
+        // crease, kDepthEdge for both pixels of a depth jump; a pixel on both kinds
+        // keeps 1 (its band).
         auto jump = [&](size_t a, size_t b) -> uint8_t {
             if (g.faceId[a] < 0 || g.faceId[b] < 0) return 0;
             const double da = g.depth[a], db = g.depth[b];
@@ -817,16 +914,31 @@ private:
             if (rel > kDepthJump * m_jumpScale) return kDepthEdge;
             return rel > kDepthJumpWithNormal * m_jumpScale && g.normal(a).dot(g.normal(b)) < kNormalJumpCos ? 1 : 0;
         };
-        for (int y = 0; y < h; ++y)
+        // Each pair of neighbours once: right[i] is the jump between pixel i and the one
+        // to its right, down[i] the one below; then each pixel gathers its four.
+        std::vector<uint8_t> right(size_t(w) * size_t(h)), down(size_t(w) * size_t(h));
+        parallelFor(0, h, [&](int64_t y) {
+            const size_t row = size_t(y) * size_t(w);
+            for (int x = 0; x + 1 < w; ++x) right[row + size_t(x)] = jump(row + size_t(x), row + size_t(x) + 1);
+            if (y + 1 < h)
+                for (int x = 0; x < w; ++x) down[row + size_t(x)] = jump(row + size_t(x), row + size_t(x) + size_t(w));
+        }, 8);
+        std::vector<uint8_t> edge(size_t(w) * size_t(h));
+        parallelFor(0, h, [&](int64_t y) {
             for (int x = 0; x < w; ++x) {
                 const size_t i = size_t(y) * size_t(w) + size_t(x);
-                // A pixel on a banded edge keeps its band (max: 1 wins over kDepthEdge).
-                auto mark = [&](size_t j, uint8_t e) {
-                    if (e && edge[j] != 1) edge[j] = e;
-                };
-                if (x + 1 < w) { const uint8_t e = jump(i, i + 1); mark(i, e); mark(i + 1, e); }
-                if (y + 1 < h) { const uint8_t e = jump(i, i + size_t(w)); mark(i, e); mark(i + size_t(w), e); }
+                if (g.faceId[i] < 0 || !m_field.valid[i]) {
+                    edge[i] = 1;
+                    continue;
+                }
+                const uint8_t j[4] = {x > 0 ? right[i - 1] : uint8_t(0), x + 1 < w ? right[i] : uint8_t(0),
+                                      y > 0 ? down[i - size_t(w)] : uint8_t(0), y + 1 < h ? down[i] : uint8_t(0)};
+                uint8_t e = 0;
+                for (uint8_t v : j)
+                    if (v == 1 || (v != 0 && e == 0)) e = v;
+                edge[i] = e;
             }
+        }, 8);
         if (m_style.pixelScale != 1.0) {
             // Print mode: a band of one style pixel (pixelScale px, any fraction),
             // measured from the edge pixels (blockedAt()); no step can jump it, as
@@ -889,8 +1001,8 @@ private:
     SampleGrid m_grid;
     std::vector<uint8_t> m_blocked;  // kBlockLines / kBlockHoles per pixel
     uint8_t m_blockMask = kBlockLines; // the bit the current pass tests
-    std::vector<float> m_crossWeight; // crossWeight() per pixel
-    std::vector<double> m_spacing[2]; // familySpacingPx() per family and pixel (double, as measured)
+    PixelArray<float> m_crossWeight;  // crossWeight() per pixel
+    PixelArray<double> m_spacing[2]; // familySpacingPx() per family and pixel (double, as measured)
     std::vector<Disc> m_discs;
     std::vector<uint8_t> m_nearDisc;
     double m_offCos = 1, m_offSin = 0;
@@ -908,12 +1020,13 @@ private:
     double m_jumpScale = 1.0 / std::max(m_style.pixelScale, 1e-3);
     int m_family = 0;
     bool m_firstFamilyOnly = true; // no line of the second family traced yet
-    Sample m_blockers[2];          // the samples that last rejected a seed (seedTooClose)
-    int m_nBlockers = 0;
+    LineHint m_blockers[2]; // the lines that last rejected a seed, latest first (seedTooClose)
+    LineHint m_scanHint;    // the line that last kept a scan seed away (scanHeading, fillHoles)
     double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
     uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
     std::vector<Stroke> m_strokes;
     std::vector<std::vector<Vec2>> m_tangents;
+    std::vector<std::vector<Sample>> m_samples; // per stroke, its grid samples by Sample::index
     std::vector<uint8_t> m_blunt; // per stroke: bit 0 its start, bit 1 its end stopped at a disc (untapered)
     size_t m_next = 0;
 };
@@ -1068,7 +1181,7 @@ double hatchInkPx(const StrokeList &strokes) {
 
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
                         const GBuffer &gbuffer, const styles::HatchStyle &style, uint32_t seed,
-                        HatchReport *report) {
+                        HatchReport *report, const std::function<void()> &whileTracing) {
     ROSY_CHECK_EQ(field.width, gbuffer.width);
     ROSY_CHECK_EQ(field.height, gbuffer.height);
     ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
@@ -1078,6 +1191,7 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
     out.height = field.height;
     if (field.nPixels() > 0) {
         Hatcher hatcher(field, targetDensity, gbuffer, style, seed);
+        if (whileTracing) whileTracing();
         hatcher.traceFamily(0);
         hatcher.traceFamily(1);
         hatcher.fillHoles();
@@ -1087,6 +1201,8 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
         // Each stroke's finish depends only on itself and (seed, id): safe in parallel.
         parallelFor(0, int64_t(out.strokes.size()),
                     [&](int64_t k) { finishStroke(out.strokes[size_t(k)], style, seed, blunt[size_t(k)]); }, 64);
+    } else if (whileTracing) {
+        whileTracing();
     }
     if (report) *report = measureHatches(out, field, targetDensity, style);
     return out;

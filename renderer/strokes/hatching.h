@@ -35,6 +35,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace rosy::renderer {
@@ -156,6 +157,9 @@ double hatchInkPx(const StrokeList &strokes);
 /// \param seed base seed; per-stroke randomness (pressure, jitter) is seeded from
 ///   (seed, stroke id), so it does not depend on thread count.
 /// \param report optional; filled with counts and measureHatches() results.
+/// \param whileTracing optional; called once the per-pixel maps are built (their loops
+///   take every core) and before the sequential tracing starts, from the calling
+///   thread: the place to start other work (a task) that should run beside the tracer.
 /// Strokes also stop at the edge of their tone band, where the line turns by more
 /// than 12° in one step, when they would come within d_test of a same-direction line,
 /// and at the disc of radius d_sep (at the darkest tone within it) around each
@@ -170,7 +174,7 @@ double hatchInkPx(const StrokeList &strokes);
 /// Empty image or no valid pixel: an empty list.
 StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targetDensity,
                         const GBuffer &gbuffer, const styles::HatchStyle &style, uint32_t seed,
-                        HatchReport *report = nullptr);
+                        HatchReport *report = nullptr, const std::function<void()> &whileTracing = {});
 
 /// Measures a hatch stroke list independently of the tracer's bookkeeping: total ink
 /// length, same-family spacing violations (every stroke vertex against the segments

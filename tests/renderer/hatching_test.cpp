@@ -414,6 +414,26 @@ TEST(Hatching, SameStrokesForOneAndTwoThreads) {
     }
 }
 
+// The hook the render uses to start its contours beside the sequential tracer: called
+// exactly once, with or without pixels, and the strokes do not depend on it.
+TEST(Hatching, WhileTracingIsCalledOnceOnEveryPath) {
+    Scene s = cylinder(96);
+    styles::HatchStyle st;
+    ScreenField sf = computeScreenField(s.gbuffer, *s.frames, s.field, field::findSingularities(*s.frames, s.field), s.camera);
+    int calls = 0;
+    const StrokeList with = traceHatches(sf, s.uniformDensity(0.7f), s.gbuffer, st, 3, nullptr, [&] { ++calls; });
+    EXPECT_EQ(calls, 1);
+    const StrokeList without = traceHatches(sf, s.uniformDensity(0.7f), s.gbuffer, st, 3);
+    ASSERT_GT(with.strokes.size(), 3u);
+    ASSERT_EQ(with.strokes.size(), without.strokes.size());
+    for (size_t k = 0; k < with.strokes.size(); ++k) EXPECT_EQ(with.strokes[k].points, without.strokes[k].points);
+
+    calls = 0;
+    const StrokeList none = traceHatches(ScreenField{}, {}, GBuffer{}, st, 3, nullptr, [&] { ++calls; });
+    EXPECT_TRUE(none.strokes.empty());
+    EXPECT_EQ(calls, 1);
+}
+
 TEST(Hatching, StubsAreStrokesShorterThanFourSpacings) {
     Camera cam = Camera::orthographic(Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 1.8, 128, 128);
     Scene s(field::makeGrid(4), cam);
