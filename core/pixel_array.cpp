@@ -11,6 +11,17 @@ namespace {
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 } // namespace
 
+void adviseHugePages(void *data, std::size_t bytes) noexcept {
+#ifdef MADV_HUGEPAGE
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(data) + kHugePage - 1) & ~(kHugePage - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHugePage - 1);
+    if (end > begin) (void)madvise(reinterpret_cast<void *>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
+
 void *allocatePixelMemory(std::size_t bytes, std::size_t &mapped) {
     mapped = 0;
     if (bytes == 0) return nullptr;
@@ -27,9 +38,7 @@ void *allocatePixelMemory(std::size_t bytes, std::size_t &mapped) {
     const std::uintptr_t end = base + over, used = aligned + size;
     if (end > used) munmap(reinterpret_cast<void *>(used), end - used);
     void *p = reinterpret_cast<void *>(aligned);
-#ifdef MADV_HUGEPAGE
-    madvise(p, size, MADV_HUGEPAGE); // advice only: ordinary pages where THP is off
-#endif
+    adviseHugePages(p, size); // advice only: ordinary pages where THP is off
     mapped = size;
     return p;
 }

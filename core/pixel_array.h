@@ -16,6 +16,11 @@
 
 namespace rosy {
 
+/// Asks for huge pages on the 2 MiB-aligned pages inside [data, data + bytes).
+/// Advice only: never changes contents, ignores failure. (Also used for std::vector
+/// buffers: renderer/output/large_buffer.h's assignLarge().)
+void adviseHugePages(void *data, std::size_t bytes) noexcept;
+
 /// Zeroed memory of at least `bytes` bytes, aligned to 2 MiB and advised for huge
 /// pages; `mapped` receives what must be passed to releasePixelMemory(). Throws
 /// std::bad_alloc when the memory cannot be had. bytes == 0 gives nullptr.

@@ -10,29 +10,16 @@
 /// 2 MiB-aligned part of the buffer, between allocating it (reserve(): no page
 /// touched yet) and filling it, so one fault maps 512 pages. Values are exactly
 /// those of v.assign(n, value); elsewhere, or where the kernel declines, it is
-/// just that.
+/// just that. Maps that a parallel loop writes in full can skip the fill as well:
+/// core/pixel_array.h's PixelArray.
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include <sys/mman.h>
+#include "core/pixel_array.h" // adviseHugePages()
 
 namespace rosy::renderer {
-
-/// Asks for huge pages on the 2 MiB-aligned pages inside [data, data + bytes).
-/// Advice only: never changes contents, ignores failure.
-inline void adviseHugePages(void *data, size_t bytes) {
-#ifdef MADV_HUGEPAGE
-    constexpr uintptr_t kHuge = uintptr_t(2) << 20;
-    const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
-    const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kHuge - 1);
-    if (end > begin) (void)madvise(reinterpret_cast<void *>(begin), end - begin, MADV_HUGEPAGE);
-#else
-    (void)data;
-    (void)bytes;
-#endif
-}
 
 /// v.assign(n, value) on freshly allocated memory advised for huge pages when the
 /// buffer spans at least one whole huge page (see the file comment).
@@ -45,7 +32,7 @@ void assignLarge(std::vector<T, A> &v, size_t n, const T &value) {
     }
     std::vector<T, A>().swap(v); // drop the old storage: the new block is untouched
     v.reserve(n);
-    adviseHugePages(v.data(), n * sizeof(T));
+    rosy::adviseHugePages(v.data(), n * sizeof(T));
     v.assign(n, value);
 }
 

@@ -179,12 +179,14 @@ public:
                     const double dy = gap(p.y(), cy * m_cell, m_cell);
                     const size_t row = size_t(cy) * size_t(m_nx);
                     for (int cx = x0; cx <= x1; ++cx) {
-                        const std::vector<Sample> &cell = m_cells[row + size_t(cx)];
-                        if (cell.empty()) continue;
+                        // A cell that never held a sample has a zero bound: skipped without
+                        // reading its list (m_cellMaxR is the smaller array).
+                        const double cellMax = m_cellMaxR[row + size_t(cx)];
+                        if (cellMax == 0.0) continue;
                         const double dx = gap(p.x(), cx * m_cell, m_cell);
-                        const double reach = std::max(r, m_cellMaxR[row + size_t(cx)]);
+                        const double reach = std::max(r, cellMax);
                         if (dx * dx + dy * dy >= reach * reach) continue;
-                        for (const Sample &s : cell)
+                        for (const Sample &s : m_cells[row + size_t(cx)])
                             if (f(s)) return true;
                     }
                 }
