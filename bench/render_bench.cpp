@@ -211,7 +211,7 @@ static void BM_BunnyIllustration(benchmark::State &state) {
     BunnyScene &b = bunnyScene();
     for (auto _ : state) // measureHatching off, as the CLI without --report
         benchmark::DoNotOptimize(
-            scenes::drawHatching(b.result.loaded, b.field(), b.singularities(), b.rays(), false));
+            scenes::drawHatching(b.result.loaded, b.field(), b.singularities(), b.rays(), renderer::HatchMeasure::None));
 }
 BENCHMARK(BM_BunnyIllustration)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -171,8 +171,10 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         }
         out.spacingGain = hatchStyle.spacingGain;
     }
-    if (in.measureHatching)
+    if (in.measureHatching == HatchMeasure::All)
         out.hatch = isolated([&] { return measureHatches(out.strokes, out.screen, out.targetDensity, hatchStyle); });
+    else if (in.measureHatching == HatchMeasure::Counts)
+        out.hatch = isolated([&] { return countHatches(out.strokes, out.screen, out.targetDensity, hatchStyle); });
     lap("hatching");
     if (contoursHere) {
         contourTask.wait(); // rethrows the task's failure

@@ -41,6 +41,9 @@ inline constexpr double kInkFillTolerance = 0.05;
 inline constexpr double kMinSpacingGain = 0.5;
 inline constexpr double kMaxSpacingGain = 2.0;
 
+/// How much of the hatch report a drawing computes (IllustrationInput::measureHatching).
+enum class HatchMeasure { None, Counts, All };
+
 struct IllustrationInput {
     const field::Mesh *mesh = nullptr;
     const field::TangentFrames *frames = nullptr; ///< of *mesh
@@ -51,9 +54,11 @@ struct IllustrationInput {
     std::vector<Light> lights;
     ShadingOptions shading;
     styles::Style style;
-    /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
-    /// singularities; about a sixth of the hatching stage). Off when nobody reads it.
-    bool measureHatching = true;
+    /// What to measure of the hatching (Illustration::hatch): All (measureHatches():
+    /// spacing violations and the other pairwise measures, about a sixth of the
+    /// hatching stage), Counts (countHatches(): strokes, stubs, strokes near
+    /// singularities) or None, when nobody reads it.
+    HatchMeasure measureHatching = HatchMeasure::All;
     /// Draw the strokes into ink layers and the composite (the "raster" stage).
     /// Off when only vector output (SVG) is written: `layers` and `composite` then
     /// stay empty and no "raster" timing is recorded.

@@ -151,8 +151,9 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                                                              seps, scene.camera, fo);
                 return;
             }
+            // Only the per-stroke counts are printed: not the pairwise measures.
             renderer::Illustration il = finishHatching(view->begun, loaded, panel.field, panel.singularities, *view->rays,
-                                                       true, true, /*progress=*/false);
+                                                       renderer::HatchMeasure::Counts, true, /*progress=*/false);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.
             panel.seamFraction = renderer::inspectSeams(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;

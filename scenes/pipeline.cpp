@@ -121,12 +121,12 @@ renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScen
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                      bool measureHatching, bool raster, bool progress) {
+                                      renderer::HatchMeasure measure, bool raster, bool progress) {
     renderer::IllustrationInput in = viewInput(*loaded.scene, rays);
     in.frames = loaded.frames.get();
     in.field = &rosyField;
     in.singularities = &singularities;
-    in.measureHatching = measureHatching;
+    in.measureHatching = measure;
     in.raster = raster;
     in.progress = progress;
     renderer::finishIllustration(begun, in);
@@ -135,9 +135,9 @@ renderer::Illustration finishHatching(renderer::Illustration begun, const Loaded
 
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    bool measureHatching, bool raster) {
-    return finishHatching(beginHatching(*loaded.scene, rays), loaded, rosyField, singularities, rays,
-                          measureHatching, raster);
+                                    renderer::HatchMeasure measure, bool raster) {
+    return finishHatching(beginHatching(*loaded.scene, rays), loaded, rosyField, singularities, rays, measure,
+                          raster);
 }
 
 HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork,
@@ -212,7 +212,9 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
     if (options.onStage) options.onStage("bvh", view.bvhMs);
     out.rays = std::move(view.rays);
     out.illustration = finishHatching(std::move(view.begun), out.loaded, out.field.field.field,
-                                      out.field.singularities, *out.rays, options.measureHatching, options.raster);
+                                      out.field.singularities, *out.rays,
+                                      options.measureHatching ? renderer::HatchMeasure::All : renderer::HatchMeasure::None,
+                                      options.raster);
     for (const auto &[stage, ms] : out.illustration->timingsMs) {
         out.timingsMs.emplace_back(stage, ms);
         if (options.onStage) options.onStage(stage, ms);

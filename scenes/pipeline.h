@@ -169,7 +169,7 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
 /// built from loaded.scene->mesh.
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    bool measureHatching = true, bool raster = true);
+                                    renderer::HatchMeasure measure = renderer::HatchMeasure::All, bool raster = true);
 
 /// drawHatching() in two halves, the one path every hatching takes (renderScene(),
 /// compareScene(), drawHatching()): beginHatching() runs what needs no field
@@ -184,7 +184,8 @@ renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScen
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                      bool measureHatching = true, bool raster = true, bool progress = true);
+                                      renderer::HatchMeasure measure = renderer::HatchMeasure::All, bool raster = true,
+                                      bool progress = true);
 
 /// What a hatching needs no field for: the Embree ray scene of the mesh, the begun
 /// drawing (beginHatching()) and the BVH's build time.

@@ -610,7 +610,7 @@ std::string Studio::previewPng(int maxSide, bool original) {
         m_previewRays = std::make_unique<renderer::RayScene>(m_previewLoaded.scene->mesh);
         m_previewSize = size;
     }
-    const renderer::Illustration il = scenes::drawHatching(m_previewLoaded, f, sings, *m_previewRays, false);
+    const renderer::Illustration il = scenes::drawHatching(m_previewLoaded, f, sings, *m_previewRays, renderer::HatchMeasure::None);
     // The PNG exactly as `render -o x.png` writes it: through writeImage, into a
     // private temporary folder, read back.
     std::string dirTemplate = (std::filesystem::temp_directory_path() / "rosyhatch-studio-XXXXXX").string();

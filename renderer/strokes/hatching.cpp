@@ -1210,43 +1210,79 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
     return out;
 }
 
-HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
-                           const std::vector<float> &targetDensity,
-                           const styles::HatchStyle &style, double tolerance) {
+namespace {
+
+/// The hatch strokes of `list` that measureHatches() looks at (kind Hatch, at least two
+/// points), by index.
+std::vector<int> measuredStrokes(const StrokeList &list) {
+    std::vector<int> hatch;
+    for (size_t k = 0; k < list.strokes.size(); ++k)
+        if (list.strokes[k].kind == StrokeKind::Hatch && list.strokes[k].points.size() >= 2) hatch.push_back(int(k));
+    return hatch;
+}
+
+/// measureHatches()'s spacing at p: family 0's d_sep, the densest hatching the tone
+/// asks for (strokes carry a family label for their layer, but a line can change layer
+/// after tracing, relabelled crossings, so the measure does not depend on which family
+/// traced it); family 1's for the second family's own d_test.
+double measuredSpacingAt(const ScreenField &field, const std::vector<float> &targetDensity,
+                         const styles::HatchStyle &style, const Vec2 &p, int family) {
+    const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
+    const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
+    const size_t i = size_t(field.index(x, y));
+    const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+    return familySpacingPx(clampDensity(targetDensity[i]), family, style, w);
+}
+
+} // namespace
+
+HatchReport countHatches(const StrokeList &list, const ScreenField &field, const std::vector<float> &targetDensity,
+                         const styles::HatchStyle &style, double tolerance) {
     ROSY_CHECK_EQ(targetDensity.size(), field.nPixels());
     HatchReport r;
-    std::vector<int> hatch;
-    for (size_t k = 0; k < list.strokes.size(); ++k) {
-        const Stroke &s = list.strokes[k];
-        if (s.kind != StrokeKind::Hatch || s.points.size() < 2) continue;
-        hatch.push_back(int(k));
+    const std::vector<int> hatch = measuredStrokes(list);
+    for (int k : hatch) {
+        const Stroke &s = list.strokes[size_t(k)];
         ++r.strokes;
         (s.family == 1 ? r.strokesFamily1 : r.strokesFamily0)++;
         for (size_t i = 1; i < s.points.size(); ++i) r.inkLengthPx += (s.points[i] - s.points[i - 1]).norm();
     }
     if (hatch.empty() || field.nPixels() == 0) return r;
+    const std::vector<Disc> discs = singularityDiscs(field, targetDensity, style, 1.0 - tolerance);
+    std::vector<uint8_t> isStub(hatch.size(), 0), nearSing(hatch.size(), 0);
+    parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
+        const auto &pts = list.strokes[size_t(hatch[size_t(h)])].points;
+        // Stubs: strokes shorter than kStubLengthRatio times their mean local spacing.
+        double arc = 0.0, spacingSum = 0.0;
+        for (size_t i = 0; i < pts.size(); ++i) {
+            if (i > 0) arc += (pts[i] - pts[i - 1]).norm();
+            spacingSum += measuredSpacingAt(field, targetDensity, style, pts[i], 0);
+        }
+        isStub[size_t(h)] = arc < kStubLengthRatio * (spacingSum / double(pts.size()));
+        for (const Disc &d : discs)
+            for (size_t i = 0; i + 1 < pts.size() && !nearSing[size_t(h)]; ++i)
+                if (pointSegmentDistance(d.centre, pts[i], pts[i + 1]) < d.radius) nearSing[size_t(h)] = 1;
+    }, 64);
+    for (size_t h = 0; h < hatch.size(); ++h) {
+        r.strokesNearSingularities += nearSing[h];
+        r.stubs += isStub[h];
+    }
+    r.stubFraction = double(r.stubs) / double(hatch.size());
+    return r;
+}
 
-    // The local spacing is the first family's d_sep there (the densest hatching the
-    // tone asks for): strokes carry a family label for their layer, but a line can
-    // change layer after tracing (relabelled crossings), so the measure does not
-    // depend on which family traced it.
-    auto spacingAt = [&](const Vec2 &p) {
-        const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
-        const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
-        const size_t i = size_t(field.index(x, y));
-        const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
-        return familySpacingPx(clampDensity(targetDensity[i]), 0, style, w);
-    };
+HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
+                           const std::vector<float> &targetDensity,
+                           const styles::HatchStyle &style, double tolerance) {
+    HatchReport r = countHatches(list, field, targetDensity, style, tolerance);
+    const std::vector<int> hatch = measuredStrokes(list);
+    if (hatch.empty() || field.nPixels() == 0) return r;
+
+    auto spacingAt = [&](const Vec2 &p) { return measuredSpacingAt(field, targetDensity, style, p, 0); };
     auto dTestAt = [&](const Vec2 &p) { return kTestRatio * spacingAt(p); };
     // The second family's own d_test: its lines are traced at that spacing, so only
     // first-family lines that were relabelled (relabelCrossings) can lie closer.
-    auto dTest1At = [&](const Vec2 &p) {
-        const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
-        const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
-        const size_t i = size_t(field.index(x, y));
-        const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
-        return kTestRatio * familySpacingPx(clampDensity(targetDensity[i]), 1, style, w);
-    };
+    auto dTest1At = [&](const Vec2 &p) { return kTestRatio * measuredSpacingAt(field, targetDensity, style, p, 1); };
 
     // Segment grid, independent of the tracer's sample grid: every segment is entered
     // in each cell its bounding box touches.
@@ -1266,26 +1302,22 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
         }
     }
 
-    // Per stroke: the partners it violates spacing with, and whether it enters a disc.
-    const std::vector<Disc> discs = singularityDiscs(field, targetDensity, style, 1.0 - tolerance);
+    // Per stroke: the partners it violates spacing with.
     std::vector<std::vector<int>> partners(hatch.size());
-    std::vector<uint8_t> nearSing(hatch.size(), 0);
     std::vector<double> crossLength(hatch.size(), 0.0), overdenseLength(hatch.size(), 0.0),
         squeezedLength(hatch.size(), 0.0), incoherentLength(hatch.size(), 0.0);
-    std::vector<uint8_t> isStub(hatch.size(), 0);
     parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
         const int k = hatch[size_t(h)];
         const Stroke &a = list.strokes[size_t(k)];
         const auto &pts = a.points;
         std::vector<int> &mine = partners[size_t(h)];
         // One pass over the points: each point's central-chord tangent and local d_sep
-        // serve the stub length, the spacing test and the squeezed runs.
-        double runStart = -1.0, runEnd = 0.0, arc = 0.0, spacingSum = 0.0;
+        // serve the spacing test and the squeezed runs.
+        double runStart = -1.0, runEnd = 0.0, arc = 0.0;
         for (size_t i = 0; i < pts.size(); ++i) {
             if (i > 0) arc += (pts[i] - pts[i - 1]).norm();
             const Vec2 ta = (pts[std::min(i + 1, pts.size() - 1)] - pts[i > 0 ? i - 1 : 0]).normalized();
             const double dSep = spacingAt(pts[i]);
-            spacingSum += dSep;
             const double rA = kTestRatio * dSep; // dTestAt(pts[i])
             const double r1A = a.family == 1 ? dTest1At(pts[i]) : 0.0;
             const double reach = std::max(rA, r1A);
@@ -1368,21 +1400,13 @@ HatchReport measureHatches(const StrokeList &list, const ScreenField &field,
                 runStart = -1.0;
             }
         }
-        // Stubs: strokes shorter than kStubLengthRatio times their mean local spacing.
-        isStub[size_t(h)] = arc < kStubLengthRatio * (spacingSum / double(pts.size()));
-        for (const Disc &d : discs)
-            for (size_t i = 0; i + 1 < pts.size() && !nearSing[size_t(h)]; ++i)
-                if (pointSegmentDistance(d.centre, pts[i], pts[i + 1]) < d.radius) nearSing[size_t(h)] = 1;
     }, 16);
 
     std::vector<std::pair<int, int>> pairs;
     for (size_t h = 0; h < hatch.size(); ++h) {
         const int k = hatch[h];
         for (int kb : partners[h]) pairs.emplace_back(std::min(k, kb), std::max(k, kb));
-        r.strokesNearSingularities += nearSing[h];
-        r.stubs += isStub[h];
     }
-    r.stubFraction = double(r.stubs) / double(hatch.size());
     double cross = 0.0, over = 0.0, squeezed = 0.0, incoherent = 0.0;
     for (size_t h = 0; h < hatch.size(); ++h) {
         cross += crossLength[h];

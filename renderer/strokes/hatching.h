@@ -191,4 +191,12 @@ HatchReport measureHatches(const StrokeList &strokes, const ScreenField &field,
                            const std::vector<float> &targetDensity,
                            const styles::HatchStyle &style, double tolerance = 0.05);
 
+/// The per-stroke figures of measureHatches() alone, the same values: stroke counts by
+/// family, ink length, stubs and strokes near singularities; the pairwise measures
+/// (spacing violations, overdense, squeezed and incoherent fractions) stay 0. What
+/// `compare` prints per panel, at a fraction of measureHatches()'s time.
+HatchReport countHatches(const StrokeList &strokes, const ScreenField &field,
+                         const std::vector<float> &targetDensity,
+                         const styles::HatchStyle &style, double tolerance = 0.05);
+
 } // namespace rosy::renderer

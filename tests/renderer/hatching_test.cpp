@@ -460,6 +460,36 @@ TEST(Hatching, StubsAreStrokesShorterThanFourSpacings) {
     EXPECT_EQ(r.strokes, 4);
     EXPECT_EQ(r.stubs, 2);
     EXPECT_DOUBLE_EQ(r.stubFraction, 0.5);
+    // countHatches(), compare's per-panel figures, gives the same counts.
+    const HatchReport c = countHatches(list, s.screen, s.uniformDensity(density), st);
+    EXPECT_EQ(c.strokes, 4);
+    EXPECT_EQ(c.stubs, 2);
+    EXPECT_DOUBLE_EQ(c.stubFraction, 0.5);
+}
+
+// countHatches() is measureHatches() without the pairwise measures: on a traced cross-
+// hatched cylinder with a singularity in view, the same counts, ink and strokes near
+// singularities, and the pairwise figures left at 0.
+TEST(Hatching, CountsAreMeasureHatchesWithoutThePairwiseMeasures) {
+    Scene s = cylinder(128);
+    styles::HatchStyle st;
+    const ScreenField sf =
+        computeScreenField(s.gbuffer, *s.frames, s.field, field::findSingularities(*s.frames, s.field), s.camera);
+    const std::vector<float> density = s.uniformDensity(0.8f);
+    const StrokeList list = traceHatches(sf, density, s.gbuffer, st, 5);
+    const HatchReport all = measureHatches(list, sf, density, st), counts = countHatches(list, sf, density, st);
+    ASSERT_GT(all.strokesFamily1, 0); // cross-hatched
+    EXPECT_EQ(counts.strokes, all.strokes);
+    EXPECT_EQ(counts.strokesFamily0, all.strokesFamily0);
+    EXPECT_EQ(counts.strokesFamily1, all.strokesFamily1);
+    EXPECT_EQ(counts.inkLengthPx, all.inkLengthPx);
+    EXPECT_EQ(counts.stubs, all.stubs);
+    EXPECT_EQ(counts.stubFraction, all.stubFraction);
+    EXPECT_EQ(counts.strokesNearSingularities, all.strokesNearSingularities);
+    EXPECT_EQ(counts.minSpacingViolations, 0);
+    EXPECT_EQ(counts.squeezedFraction, 0.0);
+    EXPECT_EQ(counts.incoherentFraction, 0.0);
+    EXPECT_EQ(counts.crossOverdenseFraction, 0.0);
 }
 
 TEST(Hatching, SqueezedRunsAreInterleavedFronts) {
