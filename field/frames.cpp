@@ -37,12 +37,10 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
     m_faceY.assign(nF, Vec3::UnitY());
     m_vertexToFace.assign(nH, 0.0);
 
-    // Corner angles and face normals once each: the vertex normals below are
-    // Mesh::vertexNormal() summed from them (the same terms in the same order).
-    std::vector<double> corner(nH);
-    parallelFor(0, nH, [&](int64_t h) { corner[h] = mesh.cornerAngle(int(h)); }, 4096);
-    std::vector<Vec3> faceNormal(nF);
-    parallelFor(0, nF, [&](int64_t f) { faceNormal[size_t(f)] = mesh.faceNormal(int(f)); }, 4096);
+    // Corner angles and face normals once each (kept by the mesh): the vertex normals
+    // below are Mesh::vertexNormal() summed from them (the same terms in the same order).
+    const std::vector<double> &corner = mesh.cornerAngles();
+    const std::vector<Vec3> &faceNormal = mesh.faceNormals();
 
     const int *ring0 = nV > 0 ? mesh.outgoingBegin(0) : nullptr;
     // Scratch space per chunk, not thread_local: a thread_local with a destructor

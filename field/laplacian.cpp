@@ -135,6 +135,7 @@ void meanValueWeights(const Mesh &mesh, int i, std::vector<NeighbourWeight> &row
     // Mean-value weight of neighbour j of i: (tan(a1/2) + tan(a2/2)) / |p_j − p_i|,
     // a1, a2 the corner angles at i on either side of edge ij.
     row.clear();
+    const std::vector<double> &angles = mesh.cornerAngles();
     auto addTo = [&](int j, int h, double x) {
         for (auto &p : row)
             if (p.vertex == j) {
@@ -145,7 +146,7 @@ void meanValueWeights(const Mesh &mesh, int i, std::vector<NeighbourWeight> &row
     };
     for (const int *it = mesh.outgoingBegin(i); it != mesh.outgoingEnd(i); ++it) {
         const int h = *it; // i -> head(h), corner at i spans to tail(prev(h))
-        const double a = mesh.cornerAngle(h);
+        const double a = angles[size_t(h)];
         // tan(a/2) clamped: a corner of ~π (needle) would blow up.
         const double t = std::min(std::tan(0.5 * std::clamp(a, 0.0, M_PI)), 1e4);
         const int j1 = mesh.head(h), j2 = mesh.tail(Mesh::prev(h));

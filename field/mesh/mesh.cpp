@@ -5,6 +5,8 @@
 #include "core/error.h"
 #include "core/parallel.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -175,6 +177,30 @@ double Mesh::cornerAngle(int h) const {
     Vec3 b = position(tail(prev(h))) - position(tail(h));
     // atan2 of |cross| and dot is accurate for tiny and near-pi angles alike.
     return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+const std::vector<double> &Mesh::cornerAngles() const {
+    // Isolated: while its loop waits, this thread must not pick up a task that asks
+    // for the same values (it would wait on its own once_flag).
+    std::call_once(m_derived->anglesOnce, [&] {
+        tbb::this_task_arena::isolate([&] {
+            std::vector<double> a(static_cast<size_t>(nHalfedges()));
+            parallelFor(0, nHalfedges(), [&](int64_t h) { a[size_t(h)] = cornerAngle(int(h)); }, 4096);
+            m_derived->cornerAngles = std::move(a);
+        });
+    });
+    return m_derived->cornerAngles;
+}
+
+const std::vector<Vec3> &Mesh::faceNormals() const {
+    std::call_once(m_derived->normalsOnce, [&] {
+        tbb::this_task_arena::isolate([&] {
+            std::vector<Vec3> n(static_cast<size_t>(nFaces()));
+            parallelFor(0, nFaces(), [&](int64_t f) { n[size_t(f)] = faceNormal(int(f)); }, 4096);
+            m_derived->faceNormals = std::move(n);
+        });
+    });
+    return m_derived->faceNormals;
 }
 
 Vec3 Mesh::vertexNormal(int v) const {

@@ -17,6 +17,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -91,12 +93,26 @@ public:
     double cornerAngle(int h) const;
     /// Angle-weighted vertex normal (unit; zero only for isolated fans of zero area).
     Vec3 vertexNormal(int v) const;
+
+    /// cornerAngle(h) for every halfedge h and faceNormal(f) for every face f, computed
+    /// on first use (in parallel, the same values) and kept: the frames, the Laplacian,
+    /// the crease normals, the contours and the screen field all read them. Copies of a
+    /// mesh share them (a mesh never changes). Safe to call from several threads.
+    const std::vector<double> &cornerAngles() const;
+    const std::vector<Vec3> &faceNormals() const;
     /// Axis-aligned bounding box of all positions.
     void bounds(Vec3 &lo, Vec3 &hi) const;
     /// Mean edge length (0 for an empty mesh).
     double meanEdgeLength() const;
 
 private:
+    /// What cornerAngles() and faceNormals() compute once.
+    struct Derived {
+        std::once_flag anglesOnce, normalsOnce;
+        std::vector<double> cornerAngles;
+        std::vector<Vec3> faceNormals;
+    };
+    std::shared_ptr<Derived> m_derived = std::make_shared<Derived>();
     std::string m_name;
     std::vector<Vec3> m_positions;
     std::vector<Face> m_faces;

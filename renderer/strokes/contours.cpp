@@ -94,7 +94,7 @@ private:
     const GBuffer &m_gbuffer;
     const styles::ContourStyle &m_style;
 
-    std::vector<Vec3> m_faceNormal;   // #F unit (zero for degenerate faces)
+    const std::vector<Vec3> &m_faceNormal = m_mesh.faceNormals(); // #F unit (zero for degenerate faces)
     std::vector<uint8_t> m_crease;    // #E 1 if a crease edge
     std::vector<double> m_cornerG;    // #3F n·v at corner tail(h) of face h/3, auto-smoothed n
     std::vector<Segment> m_segments;  // compacted, deterministic order: faces then edges
@@ -106,9 +106,7 @@ private:
 };
 
 void Extractor::computeFaceNormalsAndCreases() {
-    const int nF = m_mesh.nFaces(), nE = m_mesh.nEdges();
-    m_faceNormal.resize(size_t(nF));
-    parallelFor(0, nF, [&](int64_t f) { m_faceNormal[size_t(f)] = m_mesh.faceNormal(int(f)); });
+    const int nE = m_mesh.nEdges();
     // Dihedral angle (180° = flat) below the threshold <=> the normals turn by more
     // than 180° − threshold, i.e. n0·n1 < cos(180° − threshold).
     const double cosLimit = std::cos(kPi - m_style.creaseAngleDeg * kPi / 180.0);
@@ -130,6 +128,7 @@ void Extractor::computeCornerValues() {
     // On a flat-faced solid each corner then keeps its own face normal and the
     // interpolated silhouette degenerates exactly to the front/back crease edges.
     const int nV = m_mesh.nVertices();
+    const std::vector<double> &cornerAngle = m_mesh.cornerAngles();
     m_cornerG.resize(size_t(m_mesh.nHalfedges()));
     parallelFor(0, nV, [&](int64_t vi) {
         int v = int(vi);
@@ -171,7 +170,7 @@ void Extractor::computeCornerValues() {
         }
         for (int i = 0; i < d; ++i) {
             int h = ring[i];
-            sum[root(i)] += m_mesh.cornerAngle(h) * m_faceNormal[size_t(field::Mesh::faceOf(h))];
+            sum[root(i)] += cornerAngle[size_t(h)] * m_faceNormal[size_t(field::Mesh::faceOf(h))];
         }
         Vec3 view = m_camera.toViewer(m_mesh.position(v));
         for (int i = 0; i < d; ++i) {

@@ -133,11 +133,8 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
 
     // Corner values per face once: faces cover many pixels at high resolution.
     std::vector<std::array<field::Complex, 3>> corner(size_t(mesh.nFaces()));
-    std::vector<Vec3> faceNormal(size_t(mesh.nFaces()));
-    parallelFor(0, mesh.nFaces(), [&](int64_t f) {
-        corner[size_t(f)] = frames.faceValues(int(f), field);
-        faceNormal[size_t(f)] = mesh.faceNormal(int(f));
-    });
+    const std::vector<Vec3> &faceNormal = mesh.faceNormals();
+    parallelFor(0, mesh.nFaces(), [&](int64_t f) { corner[size_t(f)] = frames.faceValues(int(f), field); });
 
     const int nSym = field.nSym;
     parallelFor(0, gbuffer.height, [&](int64_t y) {

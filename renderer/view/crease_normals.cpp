@@ -8,12 +8,11 @@ namespace rosy::renderer {
 
 std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creaseAngleRad,
                                            std::vector<Vec3> *vertexNormals) {
-    const int nF = mesh.nFaces();
-    std::vector<Vec3> faceNormal(static_cast<size_t>(nF));
+    const std::vector<Vec3> &faceNormal = mesh.faceNormals();
+    const std::vector<double> &cornerAngle = mesh.cornerAngles();
     // Every halfedge leaves exactly one vertex, so the loop below writes every entry
     // (Eigen's default constructor leaves them unset: no pass to zero them first).
     std::vector<Vec3> out(static_cast<size_t>(mesh.nHalfedges()));
-    parallelFor(0, nF, [&](int64_t f) { faceNormal[size_t(f)] = mesh.faceNormal(int(f)); }, 1024);
     if (vertexNormals) vertexNormals->resize(size_t(mesh.nVertices()));
     const double cosCrease = std::cos(creaseAngleRad);
     // Per vertex, once around its fan: the creases (and the boundary) cut the fan into
@@ -38,7 +37,7 @@ std::vector<Vec3> creaseAwareCornerNormals(const field::Mesh &mesh, double creas
         Vec3 total = Vec3::Zero();
         for (int i = 0; i < d; ++i) {
             nf[i] = faceNormal[size_t(field::Mesh::faceOf(ring[i]))];
-            w[i] = mesh.cornerAngle(ring[i]) * nf[i];
+            w[i] = cornerAngle[size_t(ring[i])] * nf[i];
             total += w[i];
         }
         if (vertexNormals) {

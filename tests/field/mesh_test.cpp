@@ -1,5 +1,6 @@
 // Tests of Mesh::fromTriangles (connectivity invariants) and mesh_stats.
 #include "core/error.h"
+#include "core/parallel.h"
 #include "field/mesh.h"
 #include "field/mesh/closest_point.h"
 #include "field/mesh_stats.h"
@@ -111,6 +112,36 @@ TEST(MeshFromTriangles, InteriorRingAnglesSumToTwoPiOnFlatGrid) {
         EXPECT_NEAR(sum, 2 * std::numbers::pi, 1e-12);
     }
     EXPECT_EQ(interior, 9); // (n-1)^2 for n = 4
+}
+
+// The kept corner angles and face normals: the per-element values, once, shared by
+// copies, and the same when many threads ask at once.
+TEST(MeshDerived, CornerAnglesAndFaceNormalsAreKeptOnceAndShared) {
+    const Mesh m = makeGrid(40);
+    const Mesh copy = m;
+    std::vector<const std::vector<double> *> angles(16, nullptr);
+    std::vector<const std::vector<Vec3> *> normals(16, nullptr);
+    parallelFor(0, 16, [&](int64_t k) {
+        angles[size_t(k)] = &(k % 2 ? copy : m).cornerAngles();
+        normals[size_t(k)] = &(k % 2 ? copy : m).faceNormals();
+    }, 1);
+    for (int k = 1; k < 16; ++k) {
+        EXPECT_EQ(angles[size_t(k)], angles[0]); // one vector, computed once
+        EXPECT_EQ(normals[size_t(k)], normals[0]);
+    }
+    ASSERT_EQ(int(angles[0]->size()), m.nHalfedges());
+    ASSERT_EQ(int(normals[0]->size()), m.nFaces());
+    for (int h = 0; h < m.nHalfedges(); ++h) EXPECT_EQ((*angles[0])[size_t(h)], m.cornerAngle(h));
+    for (int f = 0; f < m.nFaces(); ++f) EXPECT_EQ((*normals[0])[size_t(f)], m.faceNormal(f));
+    // A flat grid: every interior vertex's corners sum to 2π, every normal is ±z.
+    double sum = 0;
+    for (const int *h = m.outgoingBegin(m.nVertices() / 2); h != m.outgoingEnd(m.nVertices() / 2); ++h)
+        sum += (*angles[0])[size_t(*h)];
+    EXPECT_NEAR(sum, 2 * std::numbers::pi, 1e-12);
+    EXPECT_NEAR(std::abs((*normals[0])[0].z()), 1.0, 1e-12);
+    const Mesh empty;
+    EXPECT_TRUE(empty.cornerAngles().empty());
+    EXPECT_TRUE(empty.faceNormals().empty());
 }
 
 TEST(MeshFromTriangles, RingsAreCounterClockwiseAndComplete) {
