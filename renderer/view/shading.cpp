@@ -36,10 +36,10 @@ void orthonormalBasis(const Vec3 &n, Vec3 &t, Vec3 &b) {
 
 /// Shading normal and face normal of covered pixel i, both turned toward the viewer
 /// (the back of an open surface is shaded like its front, as seen).
-void viewerNormals(const GBuffer &g, const field::Mesh &mesh, const Camera &camera, size_t i, const Vec3 &p,
-                   Vec3 &n, Vec3 &ng) {
+void viewerNormals(const GBuffer &g, const std::vector<Vec3> &faceNormals, const Camera &camera, size_t i,
+                   const Vec3 &p, Vec3 &n, Vec3 &ng) {
     n = g.normal(i);
-    ng = mesh.faceNormal(g.faceId[i]);
+    ng = faceNormals[size_t(g.faceId[i])];
     if (ng.dot(camera.toViewer(p)) < 0.0) {
         n = -n;
         ng = -ng;
@@ -59,6 +59,7 @@ std::vector<float> ambientOcclusion(const GBuffer &g, const RayScene &scene, con
                                     const Camera &camera, const ShadingOptions &options) {
     std::vector<float> ao;
     assignLarge(ao, g.nPixels(), 1.0f);
+    const std::vector<Vec3> &faceNormals = mesh.faceNormals();
     const int nSamples = options.aoSamples;
     if (nSamples <= 0) return ao;
     ROSY_CHECK(options.aoRadius > 0.0);
@@ -72,7 +73,7 @@ std::vector<float> ambientOcclusion(const GBuffer &g, const RayScene &scene, con
                 if (g.faceId[i] < 0) continue;
                 const Vec3 p = g.position(i);
                 Vec3 n, ng, t, b;
-                viewerNormals(g, mesh, camera, i, p, n, ng);
+                viewerNormals(g, faceNormals, camera, i, p, n, ng);
                 orthonormalBasis(n, t, b);
                 const Vec3 origin = p + surfaceOffset(scene, p) * ng;
                 int count = 0; // rays traced; the rest point below the face and count as occluded
@@ -106,6 +107,7 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
                                  const ShadingOptions &options) {
     std::vector<double> tone;
     assignLarge(tone, g.nPixels(), 1.0);
+    const std::vector<Vec3> &faceNormals = mesh.faceNormals();
     double ambient = std::clamp(options.ambient, 0.0, 1.0);
     std::vector<float> ao;
     if (options.aoSamples > 0) ao = ambientOcclusion(g, scene, mesh, camera, options);
@@ -118,7 +120,7 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
                 if (f < 0) continue;
                 const Vec3 p = g.position(i);
                 Vec3 n, ng;
-                viewerNormals(g, mesh, camera, i, p, n, ng);
+                viewerNormals(g, faceNormals, camera, i, p, n, ng);
                 const double eps = surfaceOffset(scene, p);
                 double light = 0.0;
                 for (const Light &L : lights) {
