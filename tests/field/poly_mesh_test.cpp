@@ -97,8 +97,9 @@ TEST_F(PolyMeshExport, QuadsRoundTripThroughEveryFormat) {
         for (int v = 0; v < back.nVertices(); ++v)
             ++got[{back.position(v).x(), back.position(v).y(), back.position(v).z()}];
         EXPECT_EQ(got, want);
-        if (std::string(ext) != "stl")
+        if (std::string(ext) != "stl") {
             for (int v = 0; v < 8; ++v) EXPECT_EQ(back.position(v), p[size_t(v)]) << v;
+        }
         // Outward faces: the cube's volume is positive (edge 0.7).
         double volume = 0;
         for (const Face &f : back.faces())

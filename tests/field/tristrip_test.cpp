@@ -44,7 +44,10 @@ std::string asciiPly(const std::vector<int> &strip) {
     std::string s = header("ascii");
     for (const Vec3 &p : kGrid) s += std::to_string(int(p.x())) + " " + std::to_string(int(p.y())) + " 0\n";
     s += std::to_string(strip.size());
-    for (int i : strip) s += " " + std::to_string(i);
+    for (int i : strip) {
+        s += ' '; // not " " + std::to_string(): GCC 12's -Wrestrict false positive (PR 105651)
+        s += std::to_string(i);
+    }
     return s + "\n";
 }
 

@@ -70,7 +70,13 @@ Measured renderAndMeasure(const std::string &name, int nSym = 0) {
     Measured m{renderer::inspectInk(maps, options), il.hatch, il.gbuffer.width, il.gbuffer.height};
     // ROSY_QUALITY_DIR=FOLDER keeps each scene's picture and its seam map there.
     if (const char *dir = std::getenv("ROSY_QUALITY_DIR")) {
-        const std::string stem = name + (nSym > 0 ? "-" + std::to_string(nSym) + "rosy" : "");
+        // Appended, not "-" + std::to_string(): GCC 12's -Wrestrict false positive (PR 105651).
+        std::string stem = name;
+        if (nSym > 0) {
+            stem += '-';
+            stem += std::to_string(nSym);
+            stem += "rosy";
+        }
         renderer::writeImage(il.composite, (fs::path(dir) / (stem + ".png")).string());
         renderer::writeImage(renderer::seamPicture(maps, m.inspect), (fs::path(dir) / (stem + ".seams.png")).string());
     }
