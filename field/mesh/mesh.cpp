@@ -180,6 +180,8 @@ double Mesh::cornerAngle(int h) const {
 }
 
 const std::vector<double> &Mesh::cornerAngles() const {
+    static const std::vector<double> kNone;
+    if (!m_derived) return kNone; // a moved-from mesh: no halfedges either
     // Isolated: while its loop waits, this thread must not pick up a task that asks
     // for the same values (it would wait on its own once_flag).
     std::call_once(m_derived->anglesOnce, [&] {
@@ -193,6 +195,8 @@ const std::vector<double> &Mesh::cornerAngles() const {
 }
 
 const std::vector<Vec3> &Mesh::faceNormals() const {
+    static const std::vector<Vec3> kNone;
+    if (!m_derived) return kNone; // a moved-from mesh: no faces either
     std::call_once(m_derived->normalsOnce, [&] {
         tbb::this_task_arena::isolate([&] {
             std::vector<Vec3> n(static_cast<size_t>(nFaces()));
