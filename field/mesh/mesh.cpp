@@ -179,32 +179,36 @@ double Mesh::cornerAngle(int h) const {
     return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
+namespace {
+
+/// `slot` filled once with value(i) for i in [0, n), in parallel; then as it is.
+/// Isolated: while its loop waits, this thread must not pick up a task that asks for
+/// the same values (it would wait on its own once_flag).
+template <typename T, typename Value>
+const std::vector<T> &computedOnce(std::once_flag &once, std::vector<T> &slot, int n, Value &&value) {
+    std::call_once(once, [&] {
+        tbb::this_task_arena::isolate([&] {
+            std::vector<T> v(static_cast<size_t>(n));
+            parallelFor(0, n, [&](int64_t i) { v[size_t(i)] = value(int(i)); }, 4096);
+            slot = std::move(v);
+        });
+    });
+    return slot;
+}
+
+} // namespace
+
 const std::vector<double> &Mesh::cornerAngles() const {
     static const std::vector<double> kNone;
     if (!m_derived) return kNone; // a moved-from mesh: no halfedges either
-    // Isolated: while its loop waits, this thread must not pick up a task that asks
-    // for the same values (it would wait on its own once_flag).
-    std::call_once(m_derived->anglesOnce, [&] {
-        tbb::this_task_arena::isolate([&] {
-            std::vector<double> a(static_cast<size_t>(nHalfedges()));
-            parallelFor(0, nHalfedges(), [&](int64_t h) { a[size_t(h)] = cornerAngle(int(h)); }, 4096);
-            m_derived->cornerAngles = std::move(a);
-        });
-    });
-    return m_derived->cornerAngles;
+    return computedOnce(m_derived->anglesOnce, m_derived->cornerAngles, nHalfedges(),
+                        [&](int h) { return cornerAngle(h); });
 }
 
 const std::vector<Vec3> &Mesh::faceNormals() const {
     static const std::vector<Vec3> kNone;
     if (!m_derived) return kNone; // a moved-from mesh: no faces either
-    std::call_once(m_derived->normalsOnce, [&] {
-        tbb::this_task_arena::isolate([&] {
-            std::vector<Vec3> n(static_cast<size_t>(nFaces()));
-            parallelFor(0, nFaces(), [&](int64_t f) { n[size_t(f)] = faceNormal(int(f)); }, 4096);
-            m_derived->faceNormals = std::move(n);
-        });
-    });
-    return m_derived->faceNormals;
+    return computedOnce(m_derived->normalsOnce, m_derived->faceNormals, nFaces(), [&](int f) { return faceNormal(f); });
 }
 
 Vec3 Mesh::vertexNormal(int v) const {
