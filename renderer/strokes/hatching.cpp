@@ -460,10 +460,10 @@ public:
         m_firstFamilyOnly = family == 0;
         // Scan seeds fill what propagation from accepted lines leaves empty; the scan
         // is row-major so the result is deterministic.
-        const double stride = std::max(1.0, m_style.minSpacingPx);
-        for (double y = 0.5 * stride; y < m_field.height; y += stride)
-            for (double x = 0.5 * stride; x < m_field.width; x += stride) {
-                const Vec2 q(x, y);
+        const ScanPoints scan = scanPoints();
+        for (int iy = 0; iy < scan.ny(); ++iy)
+            for (int ix = 0; ix < scan.nx(); ++ix) {
+                const Vec2 q = scan.at(ix, iy);
                 m_threshold = baseThreshold();
                 if (!eligible(q)) continue;
                 Vec2 heading;
@@ -483,12 +483,6 @@ public:
         m_family = 0;
         m_firstFamilyOnly = false;
         m_blockMask = kBlockHoles; // lines may run up to depth jumps (kDepthEdge)
-        const double stride = std::max(1.0, m_style.minSpacingPx);
-        // The scan's coordinates, summed as the line passes' scan sums them.
-        std::vector<double> xs, ys;
-        for (double x = 0.5 * stride; x < m_field.width; x += stride) xs.push_back(x);
-        for (double y = 0.5 * stride; y < m_field.height; y += stride) ys.push_back(y);
-        const int nx = int(xs.size()), ny = int(ys.size());
         // Whether scan point (x, y) is a hole now: dark enough, eligible, no line within
         // the clearance. Lines only come, never go (between strokes), so a point that is
         // no hole now never becomes one: the points are first tested all at once, in
@@ -502,18 +496,19 @@ public:
             const double r = kFillClearance * spacingAt(i);
             return !m_grid.any(q, r, [&](const Sample &s) { return (s.p - q).squaredNorm() < r * r; });
         };
+        const ScanPoints scan = scanPoints();
         m_threshold = baseThreshold();
-        std::vector<uint8_t> candidate(size_t(nx) * size_t(ny), 0);
-        parallelFor(0, ny, [&](int64_t iy) {
-            for (int ix = 0; ix < nx; ++ix) {
-                const Vec2 q(xs[size_t(ix)], ys[size_t(iy)]);
-                candidate[size_t(iy) * size_t(nx) + size_t(ix)] = hole(q, pixelIndex(q));
+        std::vector<uint8_t> candidate(size_t(scan.nx()) * size_t(scan.ny()), 0);
+        parallelFor(0, scan.ny(), [&](int64_t iy) {
+            for (int ix = 0; ix < scan.nx(); ++ix) {
+                const Vec2 q = scan.at(ix, int(iy));
+                candidate[scan.index(ix, int(iy))] = hole(q, pixelIndex(q));
             }
         }, 4);
-        for (int iy = 0; iy < ny; ++iy)
-            for (int ix = 0; ix < nx; ++ix) {
-                if (!candidate[size_t(iy) * size_t(nx) + size_t(ix)]) continue;
-                const Vec2 q(xs[size_t(ix)], ys[size_t(iy)]);
+        for (int iy = 0; iy < scan.ny(); ++iy)
+            for (int ix = 0; ix < scan.nx(); ++ix) {
+                if (!candidate[scan.index(ix, iy)]) continue;
+                const Vec2 q = scan.at(ix, iy);
                 const int i = pixelIndex(q);
                 m_threshold = baseThreshold();
                 if (!hole(q, i)) continue;
@@ -561,6 +556,23 @@ public:
     const std::vector<uint8_t> &bluntEnds() const { return m_blunt; }
 
 private:
+    /// The scan seeds' points, row-major: one every minSpacingPx from half of it, the
+    /// coordinates summed step by step (every pass scans exactly the same points).
+    struct ScanPoints {
+        std::vector<double> xs, ys;
+        int nx() const { return int(xs.size()); }
+        int ny() const { return int(ys.size()); }
+        size_t index(int ix, int iy) const { return size_t(iy) * xs.size() + size_t(ix); }
+        Vec2 at(int ix, int iy) const { return Vec2(xs[size_t(ix)], ys[size_t(iy)]); }
+    };
+    ScanPoints scanPoints() const {
+        const double stride = std::max(1.0, m_style.minSpacingPx);
+        ScanPoints s;
+        for (double x = 0.5 * stride; x < m_field.width; x += stride) s.xs.push_back(x);
+        for (double y = 0.5 * stride; y < m_field.height; y += stride) s.ys.push_back(y);
+        return s;
+    }
+
     int pixelIndex(const Vec2 &p) const {
         const int x = int(std::floor(p.x())), y = int(std::floor(p.y()));
         if (x < 0 || y < 0 || x >= m_field.width || y >= m_field.height) return -1;
@@ -649,9 +661,9 @@ private:
     /// counts only the first family's samples in cross tone.
     bool notesCrossings(int i) const { return m_family == 0 && !singleTone(i); }
 
-    /// Whether a seed (no stroke of its own) at q heading along t is too close to a line (blocks()). Seeds beside a parent line come in
-    /// a row one step apart and are mostly rejected by the same neighbouring line,
-    /// sample after sample along it; so the samples of the last two lines that rejected
+    /// Whether a seed (no stroke of its own) at q heading along t is too close to a
+    /// line (blocks()). Seeds beside a parent line come in a row one step apart and are
+    /// mostly rejected by the same neighbouring line, sample after sample along it; so the samples of the last two lines that rejected
     /// a seed, around the one that did, are tried first. The answer is the same (some
     /// sample blocks or none does): between strokes every sample in the grid belongs to
     /// an accepted stroke, whose samples m_samples holds and the grid never drops.
@@ -1023,7 +1035,7 @@ private:
     int m_family = 0;
     bool m_firstFamilyOnly = true; // no line of the second family traced yet
     LineHint m_blockers[2]; // the lines that last rejected a seed, latest first (seedTooClose)
-    LineHint m_scanHint;    // the line that last kept a scan seed away (scanHeading, fillHoles)
+    LineHint m_scanHint;    // the line that last kept a scan seed away (scanHeading)
     double m_threshold = 0.0;  // tone from which the stroke being traced may hatch
     uint32_t m_attempts = 0;   // seeds tried: the stagger's random stream
     std::vector<Stroke> m_strokes;
