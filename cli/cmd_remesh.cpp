@@ -35,6 +35,7 @@ struct RemeshCliOptions {
     std::string separatrices = "off";
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
+    double featureAngle = 40; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
     int symmetry = 4;
     bool symmetryGiven = false;
     std::vector<std::string> overrides;
@@ -106,6 +107,9 @@ void runRemesh(const RemeshCliOptions &opt) {
         checkNotAnInput(out, opt.input, isScene ? "scene file" : "input mesh");
         if (desc.mesh.file) checkNotAnInput(out, desc.mesh.file->value, "input mesh");
     }
+    // Sharp features and boundaries: the field is aligned to the feature curves
+    // (field.features.angle, replaced by --feature-angle) and the remesher keeps them.
+    desc.field.spec.featureAngleDeg = opt.featureAngle;
     // The scene's own symmetry when it is 4 or 6 and --symmetry was not given.
     int nSym = opt.symmetry;
     const int sceneSym = desc.field.given ? desc.field.spec.nSym : 4;
@@ -138,6 +142,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.separatrices = opt.separatrices == "on";
     ropt.scaleStrength = opt.adaptiveScale;
     ropt.anisotropicScale = opt.anisotropicScale;
+    ropt.featureAngleDeg = opt.featureAngle;
     ropt.maxVertices = opt.common.maxFaces;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
@@ -192,7 +197,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
         json.field("separatrices", ropt.separatrices).field("adaptive_scale", ropt.scaleStrength);
-        json.field("anisotropic_scale", ropt.anisotropicScale).endObject();
+        json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg).endObject();
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
         json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
         json.key("repairs").beginObject();
@@ -237,6 +242,12 @@ void addRemeshCommand(CLI::App &app, Action &action) {
                     "closes its lattice lines (fewer irregular vertices, more spread in edge length); 0: L along "
                     "both; N = 4 only (docs/remeshing.md, Anisotropic scale)")
         ->check(CLI::Range(0.0, 2.0))
+        ->capture_default_str();
+    sub->add_option("--feature-angle", opt->featureAngle,
+                    "D in degrees: creases whose faces' normals differ by more than D, and the boundary, are "
+                    "feature curves; the field is aligned to them and the mesh keeps them (vertices on the curves "
+                    "and corners, openings left open); 0: off (docs/remeshing.md, Sharp features and boundaries)")
+        ->check(CLI::Range(0.0, 179.0))
         ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
         ->capture_default_str();

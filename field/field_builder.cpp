@@ -175,18 +175,59 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
     design.weights = spec.weights;
     const std::vector<SnappedElement> snapped = cache.snapped(spec.elements);
     design.snapped = &snapped;
+    // Feature curves (FieldSpec::featureAngleDeg) are Dirichlet constraints like elements.
+    std::vector<char> featureFixed;
+    Eigen::VectorXcd featureValues;
+    if (spec.featureAngleDeg > 0) {
+        auto t0 = Clock::now();
+        addFeatureConstraints(frames, spec.nSym, findFeatureCurves(mesh, spec.featureAngleDeg), featureFixed,
+                              featureValues);
+        out.timingsMs["features"] = msSince(t0);
+    }
+    const bool features = !featureFixed.empty() && std::find(featureFixed.begin(), featureFixed.end(), 1) != featureFixed.end();
+    // The elements' constraints, then the features' where no element is.
+    auto constraints = [&](std::vector<char> &fixed, Eigen::VectorXcd &values) {
+        if (!spec.elements.empty()) elementConstraints(frames, spec.nSym, spec.elements, fixed, values, &snapped);
+        if (!features) return;
+        if (fixed.empty()) {
+            fixed = featureFixed;
+            values = featureValues;
+            return;
+        }
+        for (size_t v = 0; v < fixed.size(); ++v)
+            if (!fixed[v] && featureFixed[v]) fixed[v] = 1, values[Eigen::Index(v)] = featureValues[Eigen::Index(v)];
+    };
+    // A field that follows `guide` with the constraints fixed.
+    auto alignedTo = [&](const RosyField &guide) {
+        std::vector<char> fixed;
+        Eigen::VectorXcd values;
+        constraints(fixed, values);
+        if (spec.smoothingLength > 0)
+            return alignedField(frames, cache.connectionLaplacian(spec.nSym), cache.vertexAreas(), guide,
+                                spec.smoothingLength, fixed, values);
+        DesignOptions guided = design;
+        guided.guide = &guide;
+        return RosyField{spec.nSym, solveRelaxation(frames, spec.nSym, fixed, values, guided)};
+    };
     switch (spec.source) {
     case FieldSource::Smoothest: {
         auto t0 = Clock::now();
         const SmoothestResult &smoothest = cache.smoothest(spec.nSym);
-        out.field = smoothest.field;
+        out.field = features ? alignedTo(smoothest.field) : smoothest.field;
         out.eigenSolve = smoothest.solver;
         out.timingsMs["solve"] = msSince(t0);
         break;
     }
     case FieldSource::Design: {
         auto t0 = Clock::now();
-        out.field = designField(frames, spec.nSym, spec.elements, design);
+        if (features) {
+            std::vector<char> fixed;
+            Eigen::VectorXcd values;
+            constraints(fixed, values);
+            out.field = {spec.nSym, solveRelaxation(frames, spec.nSym, fixed, values, design)};
+        } else {
+            out.field = designField(frames, spec.nSym, spec.elements, design);
+        }
         out.timingsMs["solve"] = msSince(t0);
         break;
     }
@@ -210,20 +251,11 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
                      measured + "), so curvature gives no direction; using the globally smoothest "
                      "field instead (or choose `source: smoothest` or `source: design`)");
             const SmoothestResult &smoothest = cache.smoothest(spec.nSym);
-            out.field = smoothest.field;
+            out.field = features ? alignedTo(smoothest.field) : smoothest.field;
             out.eigenSolve = smoothest.solver;
-        } else if (!spec.elements.empty()) {
-            // Elements are Dirichlet constraints; the curvature field guides the rest.
-            std::vector<char> fixed;
-            Eigen::VectorXcd values;
-            elementConstraints(frames, spec.nSym, spec.elements, fixed, values, &snapped);
-            if (spec.smoothingLength > 0) {
-                out.field = alignedField(frames, cache.connectionLaplacian(spec.nSym), cache.vertexAreas(), guide,
-                                         spec.smoothingLength, fixed, values);
-            } else {
-                design.guide = &guide;
-                out.field = {spec.nSym, solveRelaxation(frames, spec.nSym, fixed, values, design)};
-            }
+        } else if (!spec.elements.empty() || features) {
+            // Elements and feature curves are Dirichlet constraints; the curvature field guides the rest.
+            out.field = alignedTo(guide);
         } else if (spec.smoothingLength > 0) {
             out.field = alignedField(frames, cache.connectionLaplacian(spec.nSym), cache.vertexAreas(), guide,
                                      spec.smoothingLength);
@@ -240,7 +272,7 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
         auto t0 = Clock::now();
         std::vector<char> fixed;
         Eigen::VectorXcd values;
-        if (!spec.elements.empty()) elementConstraints(frames, spec.nSym, spec.elements, fixed, values, &snapped);
+        constraints(fixed, values);
         relaxationSmooth(frames, out.field, spec.globalSmoothingIterations,
                          spec.globalSmoothingStrength, fixed, spec.weights);
         out.timingsMs["smoothing"] = msSince(t0);

@@ -6,6 +6,7 @@
 
 #include "field/curvature.h"
 #include "field/design.h"
+#include "field/features.h"
 #include "field/frames.h"
 #include "field/smoothing.h"
 
@@ -43,6 +44,13 @@ struct FieldSpec {
     /// The paper's global smoothing afterwards: iterations and strength in (0, 1].
     int globalSmoothingIterations = 0;
     double globalSmoothingStrength = 0.5;
+    /// Feature alignment (field/features.h): with an angle D in (0, 180), the field
+    /// is constrained (Dirichlet) to have a member along the feature curves — edges
+    /// whose faces' normals differ by more than D, and boundary edges — at every
+    /// curve vertex but the corners; the rest follows from the source as usual
+    /// (the smoothest source then becomes the field aligned to the smoothest one
+    /// with the curves fixed). 0 (the default): off. Scene key `field.features.angle`.
+    double featureAngleDeg = 0;
 };
 
 constexpr int kMaxSymmetry = 12;

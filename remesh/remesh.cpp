@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "field/features.h"
 #include "field/mesh/union_find.h"
 #include "remesh/aabb_tree.h"
 
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -128,8 +130,20 @@ struct Level {
     std::vector<int> adjOffset, adj; ///< CSR neighbour lists, sorted
     std::vector<int> toCoarse;        ///< fine vertex -> vertex of the next level
     std::vector<char> pinned;
+    /// Feature lines (RemeshOptions::featureAngleDeg): a vertex with onLine keeps its
+    /// lattice point on the line through lineP along lineD (empty without features).
+    std::vector<char> onLine;
+    std::vector<Vec3> lineP, lineD;
+    /// The finest level only, with features: the feature edges after subdivision,
+    /// which vertices are feature corners (pinned at themselves) and which lie on
+    /// the input's boundary.
+    std::vector<std::array<int, 2>> featureEdges;
+    std::vector<char> corner, boundary;
     int size() const { return int(p.size()); }
 };
+
+/// Puts x on the line through p along unit d.
+inline Vec3 ontoLine(const Vec3 &x, const Vec3 &p, const Vec3 &d) { return p + d * d.dot(x - p); }
 
 /// Closest pair (one corner of each cell around the two tangent planes' middle point)
 /// of the lattices (p0, n0, q0, o0) and (p1, n1, q1, o1); q1 already matched to q0.
@@ -307,7 +321,7 @@ constexpr double kMaxEdge = 0.5;
 
 Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
                   const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices, double scaleStrength,
-                  double anisotropy, int &subdivisions) {
+                  double anisotropy, const field::FeatureCurves *curves, int &subdivisions) {
     const field::Mesh &mesh = frames.mesh();
     const int nV0 = mesh.nVertices();
     Level L;
@@ -320,6 +334,33 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         Vec3 q = frames.tangentOfAngle(v, a);
         q -= L.n[v] * L.n[v].dot(q);
         L.q[v] = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(L.n[v]);
+    }
+    // Feature edges (key: smaller vertex << 32 | larger) -> a boundary edge; curve
+    // vertices get their tangent's rotation nearest their field direction as q.
+    std::unordered_map<long long, char> featureEdge;
+    auto edgeKey = [](int a, int b) { return (long long)std::min(a, b) << 32 | (long long)std::max(a, b); };
+    std::vector<Vec3> tangent; // per vertex on a curve (not a corner), else zero
+    if (curves) {
+        for (const auto &e : curves->edges)
+            featureEdge.emplace(edgeKey(e[0], e[1]), char(mesh.isBoundaryVertex(e[0]) && mesh.isBoundaryVertex(e[1])));
+        for (int h = 0; h < mesh.nHalfedges(); ++h) // an edge between two boundary vertices may be inside
+            if (!mesh.isBoundaryHalfedge(h)) {
+                const auto it = featureEdge.find(edgeKey(mesh.tail(h), mesh.head(h)));
+                if (it != featureEdge.end()) it->second = 0;
+            }
+        L.corner.assign(size_t(nV0), 0);
+        L.boundary.assign(size_t(nV0), 0);
+        tangent.assign(size_t(nV0), Vec3::Zero());
+        for (int v = 0; v < nV0; ++v) {
+            L.corner[size_t(v)] = curves->corner[size_t(v)];
+            L.boundary[size_t(v)] = char(mesh.isBoundaryVertex(v));
+            if (!curves->onCurve(v) || curves->corner[size_t(v)]) continue;
+            Vec3 t = curves->tangent[size_t(v)];
+            t -= L.n[v] * L.n[v].dot(t);
+            if (t.norm() < 1e-9) continue;
+            tangent[size_t(v)] = t.normalized();
+            L.q[v] = lat.compatOrientation(L.q[v], tangent[size_t(v)], L.n[v]);
+        }
     }
     std::vector<std::array<int, 3>> tris(mesh.faces().begin(), mesh.faces().end());
     std::vector<double> phi = scaleStrength > 0 ? scaleFunction(L, tris, lat) : std::vector<double>(nV0, 0.0);
@@ -361,6 +402,23 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             L.p.push_back(0.5 * (L.p[a] + L.p[b]));
             L.n.push_back(n);
             L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
+            if (curves) {
+                const auto fe = featureEdge.find(key);
+                Vec3 t = Vec3::Zero();
+                if (fe != featureEdge.end()) {
+                    t = L.p[b] - L.p[a];
+                    t -= n * n.dot(t);
+                    if (t.norm() > 1e-12) {
+                        t.normalize();
+                        L.q.back() = lat.compatOrientation(L.q.back(), t, n);
+                    } else {
+                        t = Vec3::Zero();
+                    }
+                }
+                tangent.push_back(t);
+                L.corner.push_back(0);
+                L.boundary.push_back(fe != featureEdge.end() ? fe->second : 0);
+            }
             phi.push_back(0.5 * (phi[a] + phi[b]));
             const int pb = aniso ? compatIndex4(L.q[a], L.q[b], L.n[b]) & 1 : 0; // (q is near a's)
             phiA.push_back(0.5 * (phiA[2 * size_t(a)] + phiA[2 * size_t(b) + size_t(pb)]));
@@ -378,6 +436,15 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             next.push_back({m0, m1, m2});
         }
         tris.swap(next);
+        if (curves) { // each feature edge becomes its two halves
+            std::unordered_map<long long, char> halves;
+            for (const auto &[key, isBoundary] : featureEdge) {
+                const int a = int(key >> 32), b = int(key & 0xffffffff), m = mid.at(key);
+                halves.emplace(edgeKey(a, m), isBoundary);
+                halves.emplace(edgeKey(m, b), isBoundary);
+            }
+            featureEdge.swap(halves);
+        }
     }
     const int nV = int(L.p.size());
     L.area.assign(nV, 0.0);
@@ -413,6 +480,22 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         }
     }
     L.pinned.assign(nV, 0);
+    if (curves) {
+        // Corners are pinned at themselves; curve vertices keep their lattice point on
+        // the line along their tangent (the lattice's q, so the rounding keeps it there).
+        L.onLine.assign(size_t(nV), 0);
+        L.lineP.assign(size_t(nV), Vec3::Zero());
+        L.lineD.assign(size_t(nV), Vec3::Zero());
+        for (int v = 0; v < nV; ++v) {
+            if (L.corner[size_t(v)]) L.pinned[v] = 1;
+            else if (tangent[size_t(v)] != Vec3::Zero())
+                L.onLine[size_t(v)] = 1, L.lineP[size_t(v)] = L.p[v], L.lineD[size_t(v)] = tangent[size_t(v)];
+        }
+        std::vector<long long> keys;
+        for (const auto &[key, isBoundary] : featureEdge) keys.push_back(key);
+        std::sort(keys.begin(), keys.end()); // a fixed order (the map's is not)
+        for (long long key : keys) L.featureEdges.push_back({int(key >> 32), int(key & 0xffffffff)});
+    }
     // Pinning by distance, not by the singular face's corners: an input face larger
     // than L would otherwise put vertices more than L apart on one lattice point
     // (measured: worse near singularities with pinning than without, docs/remeshing.md).
@@ -525,6 +608,23 @@ Level coarsen(Level &fine) {
             coarse.pinned[c] = 1;
             coarse.o[c] = fine.o[i] - coarse.n[c] * coarse.n[c].dot(fine.o[i] - coarse.p[c]);
         }
+    if (!fine.onLine.empty()) {
+        // A cluster holding a line vertex (and no pinned one) keeps the first one's
+        // line, put in its tangent plane.
+        coarse.onLine.assign(size_t(coarse.size()), 0);
+        coarse.lineP.assign(size_t(coarse.size()), Vec3::Zero());
+        coarse.lineD.assign(size_t(coarse.size()), Vec3::Zero());
+        for (int i = 0; i < n; ++i) {
+            const int c = fine.toCoarse[i];
+            if (!fine.onLine[size_t(i)] || coarse.pinned[c] || coarse.onLine[size_t(c)]) continue;
+            const Vec3 &nc = coarse.n[c];
+            Vec3 d = fine.lineD[size_t(i)] - nc * nc.dot(fine.lineD[size_t(i)]);
+            if (d.norm() < 1e-6) continue;
+            coarse.onLine[size_t(c)] = 1;
+            coarse.lineD[size_t(c)] = d.normalized();
+            coarse.lineP[size_t(c)] = fine.lineP[size_t(i)] - nc * nc.dot(fine.lineP[size_t(i)] - coarse.p[c]);
+        }
+    }
     return coarse;
 }
 
@@ -591,6 +691,7 @@ void smoothPositions(Level &L, const Lattice &lat, const std::vector<std::vector
                 weight += 1;
                 o -= n * n.dot(o - p);
             }
+            if (!L.onLine.empty() && L.onLine[size_t(i)]) o = ontoLine(o, L.lineP[size_t(i)], L.lineD[size_t(i)]);
             L.o[i] = li.roundPoint(o, q, n, p);
         }, 512);
 }
@@ -649,6 +750,18 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
         for (int a = L.adjOffset[i], b = offset[size_t(k)]; a < L.adjOffset[i + 1]; ++a, ++b) // neighbour order kept
             adj[size_t(b)] = slot[size_t(L.adj[a])];
     }
+    // Feature lines by slot (read only for the vertex being updated).
+    std::vector<char> lineOn;
+    std::vector<std::array<Vec3, 2>> line;
+    if (!L.onLine.empty()) {
+        lineOn.assign(size_t(n), 0);
+        line.resize(size_t(n));
+        for (int k = 0; k < n; ++k) {
+            const int i = order[size_t(k)].second;
+            lineOn[size_t(k)] = L.onLine[size_t(i)];
+            line[size_t(k)] = {L.lineP[size_t(i)], L.lineD[size_t(i)]};
+        }
+    }
     std::vector<std::vector<int>> slotClasses;
     for (const std::vector<int> &cls : classes) {
         std::vector<int> c;
@@ -694,6 +807,10 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
     };
     auto finish = [&](Update &u) {
         while (u.k < u.end) step(u);
+        if (!lineOn.empty()) {
+            const size_t k = size_t(u.a - nodes.data());
+            if (lineOn[k]) u.o = ontoLine(u.o, line[k][0], line[k][1]);
+        }
         u.a->o = roundSquare(u.o, u.a->q, u.w, u.a->s, u.invS, u.a->s2, u.invS2, u.a->p);
     };
     for (int it = 0; it < sweeps; ++it)
@@ -828,6 +945,14 @@ void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, st
         const int f = facesOf[v][0], g = facesOf[v][1];
         if (f == g || gone[f] || gone[g]) continue;
         if (polygons[f].size() == 3 && polygons[g].size() == 3) continue; // a double triangle: leave it
+        // On an open mesh's boundary (its two faces do not share both its edges): valence 3, kept.
+        auto ends = [&](int h) {
+            const std::vector<int> &P = polygons[h];
+            const size_t k = size_t(std::find(P.begin(), P.end(), v) - P.begin());
+            const int a = P[(k + P.size() - 1) % P.size()], b = P[(k + 1) % P.size()];
+            return std::pair{std::min(a, b), std::max(a, b)};
+        };
+        if (ends(f) != ends(g)) continue;
         for (int h : {f, g}) {
             if (polygons[h].size() == 3) {
                 gone[h] = 1;
@@ -1046,7 +1171,8 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
 /// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
 /// its neighbours, then back onto the input surface.
 void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const AabbTree &tree,
-                   int rounds, std::map<std::string, int> &repairs) {
+                   int rounds, std::map<std::string, int> &repairs,
+                   const std::function<void(size_t, Vec3 &)> &constrain = {}) {
     std::vector<std::vector<int>> nb(positions.size());
     for (const auto &poly : polygons)
         for (size_t k = 0; k < poly.size(); ++k) {
@@ -1065,6 +1191,7 @@ void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Ve
             for (int u : nb[v]) mean += positions[u];
             mean /= double(nb[v].size());
             next[v] = tree.closest(0.5 * (positions[v] + mean)).point;
+            if (constrain) constrain(v, next[v]);
         }
         positions.swap(next);
     }
@@ -1095,8 +1222,15 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         for (const field::Singularity &sg : singularities.singularities)
             if (std::abs(sg.indexNumerator) == 1) pinFaces.emplace_back(sg.face, sg.position);
     int subdivisions = 0;
+    field::FeatureCurves curves;
+    if (options.featureAngleDeg > 0) {
+        curves = field::findFeatureCurves(mesh, options.featureAngleDeg);
+        result.repairs["feature_edges"] = int(curves.edges.size());
+        result.repairs["feature_boundary_edges"] = curves.boundaryEdges;
+        result.repairs["feature_corners"] = int(std::count(curves.corner.begin(), curves.corner.end(), 1));
+    }
     levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices, options.scaleStrength,
-                                 options.anisotropicScale, subdivisions));
+                                 options.anisotropicScale, curves.empty() ? nullptr : &curves, subdivisions));
     result.repairs["input_subdivisions"] = subdivisions;
     while (levels.back().size() > 64 && levels.size() < 40) {
         Level next = coarsen(levels.back());
@@ -1172,6 +1306,51 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     const int nC = int(cp.size());
     const AabbTree tree(mesh);
     parallelFor(0, nC, [&](int64_t c) { cp[c] = tree.closest(cp[c] / count[c]).point; });
+    // Features: an output vertex holding a feature corner goes onto it; one holding
+    // vertices of a feature line goes to the mean of their lattice points (on their
+    // lines) put on the nearest feature edge next to them; one holding input boundary
+    // vertices is on the boundary (its opening is left open below).
+    const bool features = !F.featureEdges.empty();
+    std::vector<char> cKind(features ? size_t(nC) : 0, 0), cBoundary(features ? size_t(nC) : 0, 0);
+    std::vector<int> cCorner(features ? size_t(nC) : 0, -1);
+    std::vector<std::vector<int>> cSegments(features ? size_t(nC) : 0);
+    auto ontoSegments = [&](const Vec3 &x, const std::vector<int> &segs) {
+        Vec3 best = x;
+        double bestD = std::numeric_limits<double>::infinity();
+        for (int e : segs) {
+            const Vec3 &a = F.p[F.featureEdges[size_t(e)][0]], &b = F.p[F.featureEdges[size_t(e)][1]];
+            const Vec3 d = b - a;
+            const double t = std::clamp((x - a).dot(d) / std::max(1e-300, d.squaredNorm()), 0.0, 1.0);
+            const Vec3 y = a + t * d;
+            const double dist = (y - x).squaredNorm();
+            if (dist < bestD) bestD = dist, best = y;
+        }
+        return best;
+    };
+    if (features) {
+        std::vector<std::vector<int>> incident(static_cast<size_t>(nV));
+        for (int e = 0; e < int(F.featureEdges.size()); ++e)
+            for (int v : F.featureEdges[size_t(e)]) incident[size_t(v)].push_back(e);
+        std::vector<Vec3> lineSum(static_cast<size_t>(nC), Vec3::Zero());
+        std::vector<int> lineCount(static_cast<size_t>(nC), 0);
+        for (int i = 0; i < nV; ++i) {
+            const size_t c = size_t(cluster[i]);
+            if (F.boundary[size_t(i)]) cBoundary[c] = 1;
+            if (F.corner[size_t(i)] && cCorner[c] < 0) cCorner[c] = i;
+            if (F.onLine[size_t(i)]) lineSum[c] += F.o[i], ++lineCount[c];
+            for (int e : incident[size_t(i)]) cSegments[c].push_back(e);
+        }
+        for (int c = 0; c < nC; ++c) {
+            std::vector<int> &segs = cSegments[size_t(c)];
+            std::sort(segs.begin(), segs.end());
+            segs.erase(std::unique(segs.begin(), segs.end()), segs.end());
+            if (cCorner[size_t(c)] >= 0) cKind[size_t(c)] = 2, cp[c] = F.p[cCorner[size_t(c)]];
+            else if (lineCount[size_t(c)] > 0)
+                cKind[size_t(c)] = 1, cp[c] = ontoSegments(lineSum[size_t(c)] / lineCount[size_t(c)], segs);
+        }
+        result.repairs["feature_vertices"] = int(std::count(cKind.begin(), cKind.end(), 1));
+        result.repairs["feature_corner_vertices"] = int(std::count(cKind.begin(), cKind.end(), 2));
+    }
     for (int c = 0; c < nC; ++c) {
         cn[c] = cn[c].norm() > 0 ? Vec3(cn[c].normalized()) : Vec3(0, 0, 1);
         cq[c] -= cn[c] * cn[c].dot(cq[c]);
@@ -1266,7 +1445,20 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["bridges_removed"] = bridges;
 
     const int maxSides = field.nSym == 4 ? 6 : 5;
-    int holes = 0, dropped = 0, split = 0;
+    int holes = 0, dropped = 0, split = 0, openings = 0;
+    // With features, a face traced along the input's boundary is the opening there,
+    // not a face: left open. It has boundary vertices and either only them and more
+    // sides than a face may have, or half of them and a centroid off the surface.
+    auto isOpening = [&](const std::vector<int> &f) {
+        if (!features) return false;
+        int onBoundary = 0;
+        Vec3 c = Vec3::Zero();
+        for (int x : f) onBoundary += cBoundary[size_t(x)], c += cp[x];
+        if (onBoundary == 0) return false;
+        if (onBoundary == int(f.size()) && int(f.size()) > maxSides) return true;
+        c /= double(f.size());
+        return 2 * onBoundary >= int(f.size()) && (tree.closest(c).point - c).norm() > 0.5 * options.edgeLength;
+    };
     std::vector<std::vector<int>> polygons;
     std::vector<Vec3> positions = cp;
     for (const std::vector<int> &face : faces) {
@@ -1287,6 +1479,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
             for (const std::vector<int> &f : loops) {
                 if (f.size() < 3) {
                     ++dropped;
+                    continue;
+                }
+                if (isOpening(f)) {
+                    ++openings;
                     continue;
                 }
                 if (int(f.size()) <= maxSides) {
@@ -1310,7 +1506,14 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         cancelDislocationPairs(polygons, positions, result.repairs);
         result.timingsMs["dislocation_pairs"] = msSince(tc);
     }
-    relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs);
+    std::function<void(size_t, Vec3 &)> constrain;
+    if (features) // feature vertices move along their curve only, corners not at all
+        constrain = [&](size_t v, Vec3 &x) {
+            if (v >= size_t(nC) || !cKind[v]) return;
+            x = cKind[v] == 2 ? F.p[cCorner[v]] : ontoSegments(x, cSegments[v]);
+        };
+    relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs, constrain);
+    if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
 

@@ -57,6 +57,15 @@ struct RemeshOptions {
     /// 0.112 -> 0.118, p90 angle 11.9° -> 11.5°), fandisk 255 -> 217, elephant 603 -> 521;
     /// 1 gives bunny00 362 but CV 0.159 (target 0.12). 0: L along both axes.
     double anisotropicScale = 0.3;
+    /// Sharp features and boundaries (docs/remeshing.md, "Sharp features and
+    /// boundaries"): with an angle D in (0, 180), the input's feature curves
+    /// (field/features.h: creases whose faces' normals differ by more than D, and
+    /// the boundary) constrain the position field — corners are lattice points,
+    /// curve vertices keep theirs on the line along the curve — the output vertices
+    /// there are put on the curves and corners (and move only along them when
+    /// smoothed), and the openings along the boundary are left open. The field
+    /// should be aligned to the same curves (FieldSpec::featureAngleDeg). 0: off.
+    double featureAngleDeg = 0;
     /// The input is subdivided until its mean edge is at most L / 2; more vertices
     /// than this are refused (InputError: the edge length is too short).
     long long maxVertices = 20'000'000;

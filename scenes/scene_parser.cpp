@@ -410,7 +410,8 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
     YAML::Node sourceNode;
     for (const auto &[key, value] :
          p.entries(node, "field",
-                   {"symmetry", "source", "smoothing_length", "weights", "global_smoothing", "elements", "edits"})) {
+                   {"symmetry", "source", "smoothing_length", "weights", "global_smoothing", "elements", "edits",
+                    "features"})) {
         const std::string &k = key.Scalar();
         if (k == "symmetry") {
             fd.spec.nSym = p.integer(value, "field.symmetry", 1, field::kMaxSymmetry);
@@ -443,6 +444,12 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
                     fd.spec.globalSmoothingIterations = p.integer(gv, "field.global_smoothing.iterations", 0, 100000);
                 else
                     fd.spec.globalSmoothingStrength = p.number(gv, "field.global_smoothing.strength", 1e-6, 1.0);
+            }
+        } else if (k == "features") {
+            // field/features.h: the field follows the creases sharper than `angle` and the boundary
+            for (const auto &[fk, fv] : p.entries(value, "field.features", {"angle"})) {
+                (void)fk;
+                fd.spec.featureAngleDeg = p.number(fv, "field.features.angle (degrees, 0: off)", 0.0, 179.0);
             }
         } else if (k == "elements") {
             if (!value.IsSequence())

@@ -50,6 +50,7 @@ FieldBlock fieldBlockOf(const field::FieldSpec &spec, const std::vector<field::F
     b.weights = spec.weights;
     b.globalSmoothingIterations = spec.globalSmoothingIterations;
     b.globalSmoothingStrength = spec.globalSmoothingStrength;
+    b.featureAngleDeg = spec.featureAngleDeg;
     for (const field::DesignElement &e : spec.elements)
         b.elements.push_back({e.position, e.order, e.direction, e.phaseRad * 180.0 / M_PI, e.strength});
     b.edits = edits;
@@ -65,6 +66,7 @@ std::string fieldBlockYaml(const FieldBlock &b) {
     if (b.globalSmoothingIterations > 0)
         s += "  global_smoothing: {iterations: " + std::to_string(b.globalSmoothingIterations) +
              ", strength: " + num(b.globalSmoothingStrength) + "}\n";
+    if (b.featureAngleDeg > 0) s += "  features: {angle: " + num(b.featureAngleDeg) + "}\n";
     if (!b.elements.empty()) {
         s += "  elements:\n";
         for (const FieldBlock::Element &e : b.elements) {

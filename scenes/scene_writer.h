@@ -29,6 +29,7 @@ struct FieldBlock {
     field::LaplaceWeights weights = field::LaplaceWeights::MeanValue;
     int globalSmoothingIterations = 0;
     double globalSmoothingStrength = 0.5;
+    double featureAngleDeg = 0; ///< `features: {angle: D}`, written when > 0
     std::vector<Element> elements;
     std::vector<field::FieldEdit> edits;
 };
