@@ -1448,9 +1448,14 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     int holes = 0, dropped = 0, split = 0, openings = 0;
     // With features, a face traced along the input's boundary is the opening there,
     // not a face: left open. It has boundary vertices and either only them and more
-    // sides than a face may have, or half of them and a centroid off the surface.
+    // sides than a face may have, or half of them and a centroid off the surface;
+    // and no vertex on an opening left open before (two openings through one vertex
+    // would make it non-manifold: the later one is filled as before).
+    std::vector<char> onOpening(features ? size_t(nC) : 0, 0);
     auto isOpening = [&](const std::vector<int> &f) {
         if (!features) return false;
+        for (int x : f)
+            if (onOpening[size_t(x)]) return false;
         int onBoundary = 0;
         Vec3 c = Vec3::Zero();
         for (int x : f) onBoundary += cBoundary[size_t(x)], c += cp[x];
@@ -1482,6 +1487,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                     continue;
                 }
                 if (isOpening(f)) {
+                    for (int x : f) onOpening[size_t(x)] = 1;
                     ++openings;
                     continue;
                 }

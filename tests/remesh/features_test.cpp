@@ -12,6 +12,7 @@
 #include "remesh/remesh.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <set>
@@ -160,6 +161,18 @@ TEST(RemeshFeatures, CylinderBoundaryIsFollowed) {
     }
     const Remeshed off = run(tube, 0.04, 0);
     EXPECT_TRUE(off.quality.closed); // the behaviour features change
+}
+
+// The feature steps keep the remesher's promise of the same bytes for any thread count.
+TEST(RemeshFeatures, SameOutputForAnyThreadCount) {
+    const Mesh cube = field::makeCube(8);
+    std::vector<Remeshed> runs;
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        runs.push_back(run(cube, 0.05, 40));
+    }
+    ASSERT_EQ(runs[0].result.polygons, runs[1].result.polygons);
+    ASSERT_EQ(runs[0].result.positions, runs[1].result.positions);
 }
 
 } // namespace

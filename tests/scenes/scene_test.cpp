@@ -183,6 +183,16 @@ TEST(EditDistance, CountsEdits) {
     EXPECT_EQ(editDistance("fvo", "fov"), 2);
 }
 
+TEST(ParseSceneField, FeatureAngleIsOffUnlessGiven) {
+    // field.features.angle: the field aligned to creases sharper than the angle and
+    // to the boundary (field/features.h); off by default so every render stays as it was.
+    EXPECT_EQ(parseScene("mesh: thing.off\nfield: {symmetry: 4}\n", scenePath()).field.spec.featureAngleDeg, 0);
+    EXPECT_EQ(parseScene("mesh: thing.off\nfield: {features: {angle: 40}}\n", scenePath()).field.spec.featureAngleDeg,
+              40);
+    EXPECT_THROW(parseScene("mesh: thing.off\nfield: {features: {angle: 200}}\n", scenePath()), rosy::InputError);
+    EXPECT_THROW(parseScene("mesh: thing.off\nfield: {features: {angel: 40}}\n", scenePath()), rosy::InputError);
+}
+
 TEST(ParseSceneField, ValidBlockWithElementsAndEdits) {
     SceneDesc d = parseScene("mesh: thing.off\n"
                              "field:\n"

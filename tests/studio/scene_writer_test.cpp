@@ -22,6 +22,7 @@ FieldBlock sampleBlock() {
     b.symmetry = 2;
     b.source = rosy::field::FieldSource::Curvature;
     b.smoothingLength = 0.1 / 3.0; // not exact in decimal: must still read back bit for bit
+    b.featureAngleDeg = 100.0 / 3.0; // field.features.angle
     FieldBlock::Element regular;
     regular.position = {0.1 / 7.0, -2.0 / 3.0, 1e-17};
     regular.direction = {0, 1, 0.3};
@@ -62,6 +63,7 @@ TEST(SceneWriter, NumbersReadBackExactly) {
     const std::string out = replaceFieldBlock("mesh: " + kMesh + "\n", "t.yaml", b);
     const rosy::scenes::SceneDesc d = parseScene(out, "t.yaml");
     EXPECT_EQ(d.field.spec.smoothingLength, b.smoothingLength);
+    EXPECT_EQ(d.field.spec.featureAngleDeg, b.featureAngleDeg);
     ASSERT_EQ(d.field.spec.elements.size(), 2u);
     EXPECT_EQ(d.field.spec.elements[0].position, b.elements[0].position);
     EXPECT_EQ(d.field.spec.elements[0].direction, b.elements[0].direction);
