@@ -35,7 +35,7 @@ struct RemeshCliOptions {
     std::string separatrices = "off";
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
-    double featureAngle = 40; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
+    double featureAngle = 50; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
     int symmetry = 4;
     bool symmetryGiven = false;
     std::vector<std::string> overrides;
@@ -129,6 +129,9 @@ void runRemesh(const RemeshCliOptions &opt) {
         field::Vec3 lo, hi;
         scene.mesh.bounds(lo, hi);
         edgeLength = edge.resolve((hi - lo).norm());
+        // The field ignores the creases shorter than 2 L, as the remesher does
+        // (RemeshOptions::featureAngleDeg); read by the field stage, which follows.
+        desc.field.spec.featureMinLength = 2 * edgeLength / std::max(1e-300, (hi - lo).norm());
     };
     if (!opt.common.quiet) popt.onStage = [](const std::string &stage, double ms) {
         std::fprintf(stderr, "  %s %.0f ms\n", stage.c_str(), ms);

@@ -5,10 +5,11 @@
 ///
 /// An edge is a feature edge when the normals of its two faces differ by more
 /// than an angle D (a crease, dihedral angle below 180° − D) or when it has one
-/// face (a boundary edge). Feature edges form feature curves; a vertex where a
-/// number other than two of them meet, or where a curve turns by more than
+/// face (a boundary edge). Feature edges form feature curves; a vertex where
+/// more than two of them meet, or where a curve turns by more than
 /// kFeatureCornerTurnDeg, is a feature corner. At every other vertex of a curve
-/// the curve has a tangent (the mean of its two edges' directions), and the
+/// the curve has a tangent (the mean of its two edges' directions; at a curve's
+/// end, its one edge's), and the
 /// constraint asks the field to have a member along it: u_v = e^{iNθ_v}, θ_v the
 /// tangent's angle in v's frame (for N = 4 the other members are then along and
 /// across the curve). Corners are left free.
@@ -37,9 +38,11 @@ struct FeatureCurves {
 };
 
 /// The feature edges (crease angle above `angleDeg`, in (0, 180), and every
-/// boundary edge), corners and tangents of `mesh`. \throws InputError naming
+/// boundary edge), corners and tangents of `mesh`. With minCurveLength > 0, the
+/// crease curves (edges joined through vertices that are not corners) shorter
+/// than it are dropped, and the rest classified again. \throws InputError naming
 /// the mesh when angleDeg is outside (0, 180).
-FeatureCurves findFeatureCurves(const Mesh &mesh, double angleDeg);
+FeatureCurves findFeatureCurves(const Mesh &mesh, double angleDeg, double minCurveLength = 0);
 
 /// Dirichlet constraints for an N-RoSy field aligned to `curves`: every curve
 /// vertex that is not a corner and not already fixed gets fixed[v] = 1 and

@@ -180,8 +180,10 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
     Eigen::VectorXcd featureValues;
     if (spec.featureAngleDeg > 0) {
         auto t0 = Clock::now();
-        addFeatureConstraints(frames, spec.nSym, findFeatureCurves(mesh, spec.featureAngleDeg), featureFixed,
-                              featureValues);
+        Vec3 lo, hi;
+        mesh.bounds(lo, hi);
+        const FeatureCurves curves = findFeatureCurves(mesh, spec.featureAngleDeg, spec.featureMinLength * (hi - lo).norm());
+        addFeatureConstraints(frames, spec.nSym, curves, featureFixed, featureValues);
         out.timingsMs["features"] = msSince(t0);
     }
     const bool features = !featureFixed.empty() && std::find(featureFixed.begin(), featureFixed.end(), 1) != featureFixed.end();

@@ -51,6 +51,10 @@ struct FieldSpec {
     /// (the smoothest source then becomes the field aligned to the smoothest one
     /// with the curves fixed). 0 (the default): off. Scene key `field.features.angle`.
     double featureAngleDeg = 0;
+    /// Crease curves shorter than this (relative to the bounding-box diagonal) are
+    /// not constrained (findFeatureCurves' minCurveLength); `rosyhatch remesh` uses
+    /// 2 L. Scene key `field.features.min_length`; default 0: every crease.
+    double featureMinLength = 0;
 };
 
 constexpr int kMaxSymmetry = 12;

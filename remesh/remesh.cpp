@@ -318,6 +318,8 @@ void buildAdjacency(int nV, ForEachPair &&forEachPair, std::vector<int> &offset,
 /// one, keep the singular point as their lattice point: it is then the lattice
 /// point nearest to each of them, so they become one output vertex there.
 constexpr double kMaxEdge = 0.5;
+/// Feature curves shorter than this many L are ignored by the remesher.
+constexpr double kMinFeatureLength = 2.0;
 
 Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
                   const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices, double scaleStrength,
@@ -1224,7 +1226,9 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     int subdivisions = 0;
     field::FeatureCurves curves;
     if (options.featureAngleDeg > 0) {
-        curves = field::findFeatureCurves(mesh, options.featureAngleDeg);
+        // creases shorter than 2 L are noise at this scale (elephant at 1 %: 448 corners
+        // of mostly one- or two-edge creases without it)
+        curves = field::findFeatureCurves(mesh, options.featureAngleDeg, kMinFeatureLength * options.edgeLength);
         result.repairs["feature_edges"] = int(curves.edges.size());
         result.repairs["feature_boundary_edges"] = curves.boundaryEdges;
         result.repairs["feature_corners"] = int(std::count(curves.corner.begin(), curves.corner.end(), 1));
@@ -1511,6 +1515,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         const auto tc = Clock::now();
         cancelDislocationPairs(polygons, positions, result.repairs);
         result.timingsMs["dislocation_pairs"] = msSince(tc);
+        // A re-cut can leave a vertex between two quads that share both its edges
+        // (homer: 2 with features, 1 at μ = 0): dissolved like the others.
+        const int dissolvedBefore = result.repairs["valence2_dissolved_in_faces"];
+        dissolveValence2(polygons, int(positions.size()), result.repairs);
+        result.repairs["valence2_dissolved_in_faces"] += dissolvedBefore;
     }
     std::function<void(size_t, Vec3 &)> constrain;
     if (features) // feature vertices move along their curve only, corners not at all

@@ -447,9 +447,12 @@ void parseField(const Parser &p, const YAML::Node &node, FieldDesc &fd) {
             }
         } else if (k == "features") {
             // field/features.h: the field follows the creases sharper than `angle` and the boundary
-            for (const auto &[fk, fv] : p.entries(value, "field.features", {"angle"})) {
-                (void)fk;
-                fd.spec.featureAngleDeg = p.number(fv, "field.features.angle (degrees, 0: off)", 0.0, 179.0);
+            for (const auto &[fk, fv] : p.entries(value, "field.features", {"angle", "min_length"})) {
+                if (fk.Scalar() == "angle")
+                    fd.spec.featureAngleDeg = p.number(fv, "field.features.angle (degrees, 0: off)", 0.0, 179.0);
+                else
+                    fd.spec.featureMinLength =
+                        p.number(fv, "field.features.min_length (relative to the diagonal)", 0.0, 10.0);
             }
         } else if (k == "elements") {
             if (!value.IsSequence())

@@ -51,6 +51,7 @@ FieldBlock fieldBlockOf(const field::FieldSpec &spec, const std::vector<field::F
     b.globalSmoothingIterations = spec.globalSmoothingIterations;
     b.globalSmoothingStrength = spec.globalSmoothingStrength;
     b.featureAngleDeg = spec.featureAngleDeg;
+    b.featureMinLength = spec.featureMinLength;
     for (const field::DesignElement &e : spec.elements)
         b.elements.push_back({e.position, e.order, e.direction, e.phaseRad * 180.0 / M_PI, e.strength});
     b.edits = edits;
@@ -66,7 +67,9 @@ std::string fieldBlockYaml(const FieldBlock &b) {
     if (b.globalSmoothingIterations > 0)
         s += "  global_smoothing: {iterations: " + std::to_string(b.globalSmoothingIterations) +
              ", strength: " + num(b.globalSmoothingStrength) + "}\n";
-    if (b.featureAngleDeg > 0) s += "  features: {angle: " + num(b.featureAngleDeg) + "}\n";
+    if (b.featureAngleDeg > 0)
+        s += "  features: {angle: " + num(b.featureAngleDeg) +
+             (b.featureMinLength > 0 ? ", min_length: " + num(b.featureMinLength) : std::string()) + "}\n";
     if (!b.elements.empty()) {
         s += "  elements:\n";
         for (const FieldBlock::Element &e : b.elements) {

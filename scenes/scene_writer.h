@@ -29,7 +29,8 @@ struct FieldBlock {
     field::LaplaceWeights weights = field::LaplaceWeights::MeanValue;
     int globalSmoothingIterations = 0;
     double globalSmoothingStrength = 0.5;
-    double featureAngleDeg = 0; ///< `features: {angle: D}`, written when > 0
+    double featureAngleDeg = 0;  ///< `features: {angle: D, min_length: m}`, written when D > 0
+    double featureMinLength = 0; ///< written when > 0
     std::vector<Element> elements;
     std::vector<field::FieldEdit> edits;
 };

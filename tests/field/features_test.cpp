@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -40,6 +41,12 @@ TEST(FeatureCurves, CubeHasTwelveEdgesMeetingAtEightCorners) {
     EXPECT_EQ(corners, 8);
     // The diagonals of the flat sides (0°) and nothing else above 100°: a cube has only 90° creases.
     EXPECT_EQ(findFeatureCurves(cube, 100).edges.size(), 0u);
+    // Each crease curve runs between two corners, length 2: kept at a minimum of
+    // 1.9, dropped at 2.1 (and then no vertex is a corner any more).
+    EXPECT_EQ(findFeatureCurves(cube, 40, 1.9).edges.size(), 12u * 4u);
+    const FeatureCurves none = findFeatureCurves(cube, 40, 2.1);
+    EXPECT_TRUE(none.empty());
+    EXPECT_EQ(std::count(none.corner.begin(), none.corner.end(), 1), 0);
     EXPECT_THROW(findFeatureCurves(cube, 0), InputError);
     EXPECT_THROW(findFeatureCurves(cube, 180), InputError);
 }

@@ -23,6 +23,7 @@ FieldBlock sampleBlock() {
     b.source = rosy::field::FieldSource::Curvature;
     b.smoothingLength = 0.1 / 3.0; // not exact in decimal: must still read back bit for bit
     b.featureAngleDeg = 100.0 / 3.0; // field.features.angle
+    b.featureMinLength = 0.1 / 7.0;
     FieldBlock::Element regular;
     regular.position = {0.1 / 7.0, -2.0 / 3.0, 1e-17};
     regular.direction = {0, 1, 0.3};
@@ -64,6 +65,7 @@ TEST(SceneWriter, NumbersReadBackExactly) {
     const rosy::scenes::SceneDesc d = parseScene(out, "t.yaml");
     EXPECT_EQ(d.field.spec.smoothingLength, b.smoothingLength);
     EXPECT_EQ(d.field.spec.featureAngleDeg, b.featureAngleDeg);
+    EXPECT_EQ(d.field.spec.featureMinLength, b.featureMinLength);
     ASSERT_EQ(d.field.spec.elements.size(), 2u);
     EXPECT_EQ(d.field.spec.elements[0].position, b.elements[0].position);
     EXPECT_EQ(d.field.spec.elements[0].direction, b.elements[0].direction);
