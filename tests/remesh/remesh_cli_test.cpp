@@ -63,6 +63,27 @@ TEST(RemeshCli, AnisotropicScaleFlagReachesTheRemesher) {
     EXPECT_NE(slurp(dir / "a.obj"), slurp(dir / "b.obj"));
 }
 
+// --feature-angle (default 50) reaches the field and the remesher: an open
+// cylinder stays open with its χ (0) by default, and is capped (closed, χ 2)
+// with --feature-angle 0; the report carries the angle and the feature counts.
+TEST(RemeshCli, FeatureAngleKeepsAnOpenSurfaceOpen) {
+    const fs::path dir = workDir("features");
+    std::ofstream(dir / "c.yaml") << "mesh: {primitive: cylinder, radius: 1, height: 2, n_around: 48, n_along: 24}\n";
+    const CliRun a = runRosyhatch(dir, "remesh c.yaml -o a.obj --edge 4% --report a.json --quiet", "a");
+    const CliRun b = runRosyhatch(dir, "remesh c.yaml -o b.obj --edge 4% --feature-angle 0 --report b.json --quiet", "b");
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const nlohmann::json ja = nlohmann::json::parse(slurp(dir / "a.json"));
+    const nlohmann::json jb = nlohmann::json::parse(slurp(dir / "b.json"));
+    EXPECT_EQ(ja["options"]["feature_angle"], 50.0);
+    EXPECT_EQ(jb["options"]["feature_angle"], 0.0);
+    EXPECT_EQ(ja["repairs"]["feature_boundary_edges"], 2 * 48); // the two rims of the input
+    EXPECT_FALSE(ja["quality"]["topology"]["closed"].get<bool>());
+    EXPECT_EQ(ja["quality"]["topology"]["euler_characteristic"], 0);
+    EXPECT_TRUE(jb["quality"]["topology"]["closed"].get<bool>());
+    EXPECT_EQ(jb["quality"]["topology"]["euler_characteristic"], 2);
+}
+
 TEST(RemeshCli, SixRosyToOffAndPly) {
     const fs::path dir = workDir("six");
     std::ofstream(dir / "s.yaml") << "mesh: {primitive: icosphere, subdivisions: 3}\n";
@@ -91,6 +112,8 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --adaptive-scale -0.5", "--adaptive-scale"},
         {"remesh s.yaml -o out.obj --anisotropic-scale 2.5", "--anisotropic-scale"},
         {"remesh s.yaml -o out.obj --anisotropic-scale -1", "--anisotropic-scale"},
+        {"remesh s.yaml -o out.obj --feature-angle 180", "--feature-angle"},
+        {"remesh s.yaml -o out.obj --feature-angle -1", "--feature-angle"},
         {"remesh missing.off -o out.obj", "missing.off"},
         {"remesh s.yaml -o out.obj --image out.gif", "--image"},
     };
