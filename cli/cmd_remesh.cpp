@@ -36,6 +36,7 @@ struct RemeshCliOptions {
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
     double featureAngle = 50; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
+    bool featureAngleGiven = false;
     int symmetry = 4;
     bool symmetryGiven = false;
     std::vector<std::string> overrides;
@@ -107,13 +108,16 @@ void runRemesh(const RemeshCliOptions &opt) {
         checkNotAnInput(out, opt.input, isScene ? "scene file" : "input mesh");
         if (desc.mesh.file) checkNotAnInput(out, desc.mesh.file->value, "input mesh");
     }
-    // Sharp features and boundaries: the field is aligned to the feature curves
-    // (field.features.angle, replaced by --feature-angle) and the remesher keeps them.
-    desc.field.spec.featureAngleDeg = opt.featureAngle;
     // The scene's own symmetry when it is 4 or 6 and --symmetry was not given.
     int nSym = opt.symmetry;
     const int sceneSym = desc.field.given ? desc.field.spec.nSym : 4;
     if (!opt.symmetryGiven && (sceneSym == 4 || sceneSym == 6)) nSym = sceneSym;
+    // Sharp features and boundaries: the field is aligned to the feature curves
+    // (field.features.angle, replaced by --feature-angle) and the remesher keeps them.
+    // N = 6 defaults to the boundary only (179°: no crease is that sharp): a triangle
+    // lattice cannot have rows along two creases at 90° (docs/remeshing.md).
+    const double featureAngle = opt.featureAngleGiven || nSym == 4 ? opt.featureAngle : 179.0;
+    desc.field.spec.featureAngleDeg = featureAngle;
 
     // OpenImageIO maps while the field is built (renderer/output/image_io.h).
     if (!opt.imagePath.empty() && !imageSvg) renderer::preloadImageIo();
@@ -145,7 +149,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.separatrices = opt.separatrices == "on";
     ropt.scaleStrength = opt.adaptiveScale;
     ropt.anisotropicScale = opt.anisotropicScale;
-    ropt.featureAngleDeg = opt.featureAngle;
+    ropt.featureAngleDeg = featureAngle;
     ropt.maxVertices = opt.common.maxFaces;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
@@ -249,7 +253,8 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     sub->add_option("--feature-angle", opt->featureAngle,
                     "D in degrees: creases whose faces' normals differ by more than D, and the boundary, are "
                     "feature curves; the field is aligned to them and the mesh keeps them (vertices on the curves "
-                    "and corners, openings left open); 0: off (docs/remeshing.md, Sharp features and boundaries)")
+                    "and corners, openings left open); 0: off; default 50 for -n 4, 179 (the boundary only) for -n 6 "
+                    "(docs/remeshing.md, Sharp features and boundaries)")
         ->check(CLI::Range(0.0, 179.0))
         ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
@@ -264,6 +269,7 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     addCommonOptions(*sub, opt->common);
     sub->callback([opt, sub, &action] {
         opt->symmetryGiven = sub->get_option("--symmetry")->count() > 0;
+        opt->featureAngleGiven = sub->get_option("--feature-angle")->count() > 0;
         action = [opt] { runRemesh(*opt); };
     });
 }
