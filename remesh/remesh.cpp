@@ -510,6 +510,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         double nearestD = std::numeric_limits<double>::infinity();
         for (int v = 0; v < nV; ++v) {
             if (L.n[v].dot(fn) < 0.5) continue; // the other side of a thin part
+            if (!L.onLine.empty() && (L.onLine[size_t(v)] || L.corner[size_t(v)])) continue; // features first
             const double d = (L.p[v] - target).norm();
             if (d < nearestD) nearestD = d, nearest = v;
             if (d < 0.5 * lat.s && !L.pinned[v]) {
