@@ -28,11 +28,13 @@ struct Remeshed {
     double edgeLength = 0;
 };
 
-/// Field and remesher both with feature angle `angleDeg` (0: off), L = relativeEdge × diagonal.
+/// Field and remesher both with feature angle `angleDeg` (0: off), L = relativeEdge × diagonal,
+/// the field ignoring creases shorter than 2 L as the remesher does (what `rosyhatch remesh` sets).
 Remeshed run(const Mesh &mesh, double relativeEdge, double angleDeg) {
     const field::TangentFrames frames(mesh);
     field::FieldSpec spec;
     spec.featureAngleDeg = angleDeg;
+    spec.featureMinLength = 2 * relativeEdge;
     const field::FieldResult fr = field::buildField(frames, spec);
     const field::SingularityReport sing = field::findSingularities(frames, fr.field);
     Vec3 lo, hi;
@@ -68,7 +70,7 @@ double segmentDistance(const Vec3 &x, const Vec3 &a, const Vec3 &b) {
 // smoothest) field does not run along the edges and the same checks fail.
 TEST(RemeshFeatures, CubeKeepsItsEdgesAndCorners) {
     const Mesh cube = field::makeCube(8);
-    const Remeshed r = run(cube, 0.07, 40);
+    const Remeshed r = run(cube, 0.07, 50);
     const QualityReport &q = r.quality;
     EXPECT_TRUE(q.closed) << q.boundaryEdges;
     expectValid(q, 2);
@@ -118,7 +120,7 @@ TEST(RemeshFeatures, CubeKeepsItsEdgesAndCorners) {
 // input -> output without features), and still closed with the input's χ.
 TEST(RemeshFeatures, FandiskWithinHalfAPercentBothWays) {
     const Mesh mesh = field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/fandisk.off");
-    const Remeshed r = run(mesh, 0.01, 40);
+    const Remeshed r = run(mesh, 0.01, 50);
     EXPECT_TRUE(r.quality.closed);
     expectValid(r.quality, 2);
     EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
@@ -132,7 +134,7 @@ TEST(RemeshFeatures, FandiskWithinHalfAPercentBothWays) {
 // rim gets about 2π / L boundary edges. Without features the openings are capped.
 TEST(RemeshFeatures, CylinderBoundaryIsFollowed) {
     const Mesh tube = field::makeCylinder(1.0, 2.0, 48, 24);
-    const Remeshed r = run(tube, 0.04, 40);
+    const Remeshed r = run(tube, 0.04, 50);
     const QualityReport &q = r.quality;
     EXPECT_FALSE(q.closed);
     expectValid(q, 0);
@@ -169,7 +171,7 @@ TEST(RemeshFeatures, SameOutputForAnyThreadCount) {
     std::vector<Remeshed> runs;
     for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-        runs.push_back(run(cube, 0.05, 40));
+        runs.push_back(run(cube, 0.05, 50));
     }
     ASSERT_EQ(runs[0].result.polygons, runs[1].result.polygons);
     ASSERT_EQ(runs[0].result.positions, runs[1].result.positions);
