@@ -35,7 +35,7 @@ namespace {
 template <typename F> auto isolated(F &&f) { return tbb::this_task_arena::isolate(std::forward<F>(f)); }
 
 /// The stages' order in Illustration::timingsMs, whichever ran first.
-constexpr const char *kStageOrder[] = {"gbuffer", "tone", "screen_field", "hatching", "contours", "raster"};
+constexpr const char *kStageOrder[] = {"gbuffer", "tone", "remesh", "screen_field", "hatching", "contours", "raster"};
 
 } // namespace
 
@@ -131,12 +131,29 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
 
     styles::HatchStyle hatchStyle = in.style.hatch;
     bool contoursStarted = false;
-    out.strokes = isolated([&] {
-        return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed, nullptr, [&] {
-            startContours();
-            contoursStarted = true;
+    if (in.quadLines) {
+        // Lines on the surface need no calibration: their spacing is the mesh's.
+        startContours();
+        contoursStarted = true;
+        hatchStyle.calibrateInk = false;
+        out.strokes = isolated([&] {
+            return quadLineHatches(*in.quadLines, out.screen, out.targetDensity, out.gbuffer, camera, hatchStyle,
+                                   in.style.seed);
         });
-    });
+        if (in.style.hatch.calibrateInk) {
+            double askedAtMin = 0;
+            const double asked = toneInkPx(out.screen, out.targetDensity, hatchStyle, &askedAtMin);
+            out.inkFill = asked > 0 ? hatchInkPx(out.strokes) / asked : 1.0;
+            out.inkAtMinSpacing = asked > 0 ? askedAtMin / asked : 0.0;
+        }
+    } else {
+        out.strokes = isolated([&] {
+            return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed, nullptr, [&] {
+                startContours();
+                contoursStarted = true;
+            });
+        });
+    }
     ROSY_CHECK(contoursStarted); // traceHatches() calls whileTracing on every path that returns
     if (hatchStyle.calibrateInk) {
         // Print mode: how much ink a Jobard-Lefer tracing lays down for the spacings

@@ -13,6 +13,7 @@
 #include "renderer/strokes/contours.h"
 #include "renderer/view/gbuffer.h"
 #include "renderer/strokes/hatching.h"
+#include "renderer/strokes/quad_lines.h"
 #include "renderer/output/image.h"
 #include "renderer/evaluation/inspect.h"
 #include "renderer/output/raster.h"
@@ -73,6 +74,10 @@ struct IllustrationInput {
     /// For one illustration (render); off when several finish from one begun
     /// illustration (compare), which would trace them once each.
     bool contoursBesideHatching = false;
+    /// style.hatch.lines == QuadMesh: the quad mesh's edge lines the hatches follow
+    /// (quadLineHatches(); scenes::finishHatching() remeshes). Null: the field's
+    /// streamlines (traceHatches()), whatever the style says.
+    const std::vector<SurfaceLine> *quadLines = nullptr;
 };
 
 struct Illustration {

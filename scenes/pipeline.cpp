@@ -1,6 +1,9 @@
 #include "scenes/pipeline.h"
 
 #include "core/diagnostics.h"
+#include "core/progress.h"
+#include "remesh/edge_lines.h"
+#include "remesh/remesh.h"
 #include "renderer/field_picture.h"
 
 #include <fmt/format.h>
@@ -9,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <optional>
 
 namespace rosy::scenes {
 
@@ -118,11 +122,68 @@ renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScen
     return renderer::beginIllustration(in);
 }
 
+namespace {
+
+/// style.hatch.lines: quad_mesh: the field's quad remesh (remesh::remesh(), edge
+/// hatch.quad_edge_px on screen at the mesh's bounding-box centre) and its edge lines.
+std::vector<renderer::SurfaceLine> quadMeshLines(const LoadedScene &loaded, const field::RosyField &rosyField,
+                                                 const field::SingularityReport &singularities, bool progress) {
+    const Scene &scene = *loaded.scene;
+    if (4 % rosyField.nSym != 0)
+        throw InputError(FileLoc{scene.mesh.name()},
+                         fmt::format("style.hatch.lines: quad_mesh hatches along a quad mesh, which needs a 4-RoSy "
+                                     "field (or a 2- or 1-RoSy, which with its perpendicular makes one); this field "
+                                     "has N = {}",
+                                     rosyField.nSym),
+                         "set field.symmetry: 4 (or 2), or hatch.lines: field");
+    // A 1- or 2-RoSy and its perpendicular are a cross: the 4-RoSy whose angle is
+    // the same, γ₄ = |γ| (γ / |γ|)^(4 / N).
+    field::RosyField cross = rosyField;
+    if (rosyField.nSym != 4) {
+        cross.nSym = 4;
+        for (Eigen::Index v = 0; v < cross.u.size(); ++v) {
+            const double r = std::abs(rosyField.u[v]);
+            cross.u[v] = r > 0 ? r * std::pow(rosyField.u[v] / r, 4 / rosyField.nSym) : field::Complex(0, 0);
+        }
+    }
+    Vec3 lo, hi;
+    scene.mesh.bounds(lo, hi);
+    const double pxPerWorld = scene.camera.projectJacobian(0.5 * (lo + hi)).norm() / std::sqrt(2.0);
+    if (!(pxPerWorld > 0) || !std::isfinite(pxPerWorld))
+        throw InputError(FileLoc{scene.mesh.name()},
+                         "style.hatch.lines: quad_mesh: the camera sees the mesh's centre at no size, so no edge "
+                         "length follows from hatch.quad_edge_px",
+                         "frame the mesh (camera.auto: true)");
+    remesh::RemeshOptions options;
+    options.edgeLength = scene.style.hatch.quadEdgePx / pxPerWorld;
+    // Seconds on a large picture (bunny00 at 1024²: about four times the rest of the
+    // render), so the terminal shows it (after about a second, core/progress.h).
+    std::optional<Progress> bar;
+    if (progress) bar.emplace("remeshing", std::vector<ProgressStage>{{"quad mesh", 95}, {"lines", 5}});
+    const remesh::RemeshResult mesh = remesh::remesh(*loaded.frames, cross, singularities, options);
+    if (bar) bar->beginStage(1);
+    std::vector<renderer::SurfaceLine> lines;
+    for (remesh::EdgeLine &l : remesh::edgeLines(mesh.poly))
+        lines.push_back({std::move(l.points), std::move(l.normals), l.closed, std::move(l.families), l.parity});
+    if (bar) bar->finish();
+    return lines;
+}
+
+} // namespace
+
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                       renderer::HatchMeasure measure, bool raster, bool progress) {
     renderer::IllustrationInput in = viewInput(*loaded.scene, rays);
+    std::vector<renderer::SurfaceLine> quadLines;
+    if (loaded.scene->style.hatch.lines == styles::HatchStyle::Lines::QuadMesh) {
+        const auto start = std::chrono::steady_clock::now();
+        quadLines = quadMeshLines(loaded, rosyField, singularities, progress);
+        in.quadLines = &quadLines;
+        begun.timingsMs.emplace_back(
+            "remesh", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
     in.frames = loaded.frames.get();
     in.field = &rosyField;
     in.singularities = &singularities;

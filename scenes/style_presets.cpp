@@ -47,6 +47,8 @@ const std::vector<StyleKey> &styleKeyTable() {
         ROSY_NUM("paper_grain", 0.0, 1.0, paperGrain),
         StyleKey{"seed", SK::Integer, 0, 4294967295.0, nullptr, nullptr, nullptr,
                  [](styles::Style &s) { return &s.seed; }},
+        StyleKey{"hatch.lines", SK::Text, 0, 0, nullptr, nullptr, nullptr, nullptr},
+        ROSY_NUM("hatch.quad_edge_px", 2.0, 512.0, hatch.quadEdgePx),
         ROSY_NUM("hatch.stroke_width_px", 0.05, 64.0, hatch.strokeWidthPx),
         ROSY_NUM("hatch.min_spacing_px", 0.5, 512.0, hatch.minSpacingPx),
         ROSY_NUM("hatch.max_spacing_px", 0.5, 4096.0, hatch.maxSpacingPx),
@@ -108,6 +110,14 @@ void applyStyleText(const Parser &p, const YAML::Node &value, const std::string 
             p.fail(value, (fromFlag ? "" : what + ": ") + e.message(),
                    "use a4, a3, letter or WIDTHxHEIGHT in mm such as 300x200");
         }
+        return;
+    }
+    if (dotted == "hatch.lines") {
+        using L = styles::HatchStyle::Lines;
+        if (text == "field") style.hatch.lines = L::Field;
+        else if (text == "quad_mesh") style.hatch.lines = L::QuadMesh;
+        else p.fail(value, what + " must be field or quad_mesh, got '" + text + "'",
+                    "field: streamlines of the field (the default); quad_mesh: the edges of the field's quad remesh");
         return;
     }
     using O = styles::PageStyle::Orientation;

@@ -38,6 +38,7 @@ Style printStyle(const Style &style, double mmPerPx, bool *coarsened) {
     s.hatch.maxSpacingPx = l.maxSpacingMm * scale;
     s.hatch.minLengthPx = l.minLengthMm * scale;
     s.hatch.jitterPx = style.hatch.jitterPx * style.page.pxMm * scale;
+    s.hatch.quadEdgePx = style.hatch.quadEdgePx * style.page.pxMm * scale;
     s.hatch.pixelScale = style.page.pxMm * scale;
     s.hatch.calibrateInk = true;
     if (s.contour.widthPx > 0) s.contour.widthPx = s.hatch.strokeWidthPx;

@@ -20,6 +20,16 @@ using Rgb = std::array<double, 3>;
 /// How hatches turn tone into ink. Densities are ink coverage in [0, 1]
 /// (0 = white paper, 1 = solid ink); lengths are pixels of the render resolution.
 struct HatchStyle {
+    /// What the hatch lines follow: the field's streamlines, traced on screen with
+    /// evenly spaced seeds (Jobard–Lefer; renderer/strokes/hatching.h), or the
+    /// edges of a quad mesh remeshed along the field (remesh/, then
+    /// renderer/strokes/quad_lines.h): evenly spaced on the surface by construction.
+    enum class Lines : uint8_t { Field, QuadMesh };
+    Lines lines = Lines::Field;
+    /// Lines::QuadMesh: the quad mesh's edge length, in pixels at the depth of the
+    /// mesh's bounding-box centre (turned into world units by the camera): the
+    /// spacing of one family where every one of its lines is drawn.
+    double quadEdgePx = 6.0;
     double strokeWidthPx = 1.8;     ///< mean hatch line width (tapered ends included)
     double minSpacingPx = 3.2;      ///< densest spacing between parallel hatches (two families then cover 81%);
                                     ///< closer than ~3 px, lines near the Nyquist rate lose their direction

@@ -1045,11 +1045,11 @@ private:
     size_t m_next = 0;
 };
 
-/// Width profile and optional wobble of one stroke; randomness from (seed, id) only.
-/// `blunt` bit 0 / bit 1: the start / end stopped at a singularity's keep-away disc
-/// and keeps its full width there. A taper thins the last three widths before the
-/// disc, so the light hole read larger than the disc the rule clears (in cross tone,
-/// where many lines stop around it, enough to count as a seam).
+} // namespace
+
+// A taper thins the last three widths before a singularity's disc, so the light hole
+// read larger than the disc the rule clears (in cross tone, where many lines stop
+// around it, enough to count as a seam): `blunt` ends keep their full width.
 void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed, uint8_t blunt) {
     const size_t n = stroke.points.size();
     std::vector<double> arc(n, 0.0);
@@ -1099,8 +1099,6 @@ void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed
         stroke.points = std::move(moved);
     }
 }
-
-} // namespace
 
 int hatchFamilies(double density, const styles::HatchStyle &style) {
     if (!(density >= style.highlightDensity) || !(density > 0)) return 0;

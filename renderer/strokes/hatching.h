@@ -147,6 +147,12 @@ double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensi
 /// Total polyline length (px) of the Hatch strokes of `strokes`.
 double hatchInkPx(const StrokeList &strokes);
 
+/// Width profile (taper, pressure) and optional wobble of one hatch stroke, as
+/// traceHatches() finishes its own; randomness from (seed, stroke.id) only. `blunt`
+/// bit 0 / bit 1: the start / end stopped at a singularity's keep-away disc and
+/// keeps its full width there (0: both ends taper).
+void finishStroke(Stroke &stroke, const styles::HatchStyle &style, uint32_t seed, uint8_t blunt = 0);
+
 /// Traces the hatches.
 /// \param field screen field of the same resolution as `gbuffer`.
 /// \param targetDensity #pixels, row-major, ink coverage in [0, 1] (values outside are

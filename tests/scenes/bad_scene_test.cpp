@@ -435,3 +435,12 @@ TEST(BadScene, NonRegularMeshesAndPresetFoldersAreNamedForWhatTheyAre) {
                                     "' is a folder, not a file"))
         << msg;
 }
+
+TEST(BadScene, UnknownHatchLinesNameTheKeyAndTheChoices) {
+    const std::string msg = parseError("mesh: {primitive: torus}\nstyle:\n  hatch: {lines: grid}\n");
+    EXPECT_TRUE(startsWith(msg, path() + ":3:18: error: style.hatch.lines must be field or quad_mesh, got 'grid'"))
+        << msg;
+    EXPECT_NO_THROW(parseScene("mesh: {primitive: torus}\nstyle: {hatch: {lines: quad_mesh, quad_edge_px: 8}}\n", path()));
+    EXPECT_NE(parseError("mesh: {primitive: torus}\nstyle: {hatch: {quad_edge_px: 1}}\n").find("quad_edge_px"),
+              std::string::npos);
+}

@@ -306,3 +306,91 @@ TEST(CancelClosestPairs, CancelsTheNearestOppositePairFirst) {
     for (const field::Singularity &s : after) sumAfter += s.indexNumerator;
     EXPECT_EQ(sumAfter, sumBefore);
 }
+
+namespace {
+
+/// A torus at 160 x 120 hatched along its quad remesh (style hatch.lines: quad_mesh),
+/// lit from one side so that it has light, single-hatched and cross-hatched parts.
+const char *kQuadTorus = R"(
+mesh: {primitive: torus, nu: 64, nv: 32}
+camera: {auto: true, direction: [0.2, -1, 0.8], resolution: [160, 120]}
+lights: [{type: directional, direction: [-1, 0.3, 0.6], intensity: 0.9}]
+style: {hatch: {lines: quad_mesh, quad_edge_px: 4}}
+)";
+
+} // namespace
+
+TEST(QuadMeshHatching, FollowsTheRemeshOnTheVisibleSurface) {
+    const scenes::SceneDesc desc = scenes::parseScene(kQuadTorus, kScenePath);
+    const scenes::RenderResult r = scenes::renderScene(desc);
+    ASSERT_TRUE(r.illustration.has_value());
+    const renderer::Illustration &il = *r.illustration;
+    const std::vector<std::string> names = stageNames(r.timingsMs);
+    EXPECT_NE(std::find(names.begin(), names.end(), "remesh"), names.end());
+    int hatches[2] = {0, 0};
+    for (const renderer::Stroke &s : il.strokes.strokes) {
+        if (s.kind != renderer::StrokeKind::Hatch) continue;
+        ASSERT_TRUE(s.family == 0 || s.family == 1);
+        ++hatches[s.family];
+        double length = 0;
+        for (size_t k = 1; k < s.points.size(); ++k) length += (s.points[k] - s.points[k - 1]).norm();
+        EXPECT_GE(length, styles::HatchStyle{}.minLengthPx - 1e-9);
+        // Every point on the object: within a pixel of a pixel that sees the torus.
+        for (const Eigen::Vector2d &p : s.points) {
+            bool onObject = false;
+            for (int dy = -1; dy <= 1 && !onObject; ++dy)
+                for (int dx = -1; dx <= 1 && !onObject; ++dx) {
+                    const int x = int(std::floor(p.x())) + dx, y = int(std::floor(p.y())) + dy;
+                    onObject = x >= 0 && y >= 0 && x < il.gbuffer.width && y < il.gbuffer.height &&
+                               il.gbuffer.faceId[size_t(il.gbuffer.index(x, y))] >= 0;
+                }
+            EXPECT_TRUE(onObject) << p.transpose();
+        }
+    }
+    // Both families: the dark side is cross-hatched.
+    EXPECT_GT(hatches[0], 10);
+    EXPECT_GT(hatches[1], 0);
+    // The same drawing on one thread (the remesher and the lines are deterministic).
+    scenes::PipelineOptions one;
+    one.threads = 1;
+    const scenes::RenderResult r1 = scenes::renderScene(desc, one);
+    ASSERT_EQ(r1.illustration->strokes.strokes.size(), il.strokes.strokes.size());
+    for (size_t k = 0; k < il.strokes.strokes.size(); ++k)
+        EXPECT_EQ(r1.illustration->strokes.strokes[k].points, il.strokes.strokes[k].points) << k;
+}
+
+TEST(QuadMeshHatching, DarkerToneDrawsMoreLines) {
+    // quadLineLevel(): the coverage of the lines drawn grows with the tone's, from
+    // none below highlight_density to both families in full above cross_density.
+    styles::HatchStyle st; // stroke 1.8 px, quad edge 6 px: one family 0.15 (every other line) or 0.3
+    EXPECT_EQ(renderer::quadLineLevel(0.05, st), 0);
+    EXPECT_EQ(renderer::quadLineLevel(0.16, st), 1);
+    EXPECT_EQ(renderer::quadLineLevel(0.26, st), 2);
+    EXPECT_EQ(renderer::quadLineLevel(0.44, st), 2);
+    EXPECT_EQ(renderer::quadLineLevel(0.45, st), 3); // 1 − 0.7 · 0.85 = 0.405 nearer than 1 − 0.7² = 0.51
+    EXPECT_EQ(renderer::quadLineLevel(0.47, st), 4);
+    EXPECT_EQ(renderer::quadLineLevel(0.6, st), 4);
+    int last = 0;
+    for (double d = 0; d <= 1.0; d += 0.01) {
+        const int level = renderer::quadLineLevel(d, st);
+        EXPECT_GE(level, last) << d;
+        last = level;
+    }
+}
+
+TEST(QuadMeshHatching, NeedsACrossAmongTheFieldsMembers) {
+    // A 2-RoSy and its perpendicular make the cross the remesh follows; a 3-RoSy has none.
+    scenes::SceneDesc desc = scenes::parseScene(kQuadTorus, kScenePath);
+    desc.field.spec.nSym = 2;
+    const scenes::RenderResult two = scenes::renderScene(desc);
+    ASSERT_TRUE(two.illustration.has_value());
+    EXPECT_FALSE(two.illustration->strokes.strokes.empty());
+    desc.field.spec.nSym = 3;
+    try {
+        (void)scenes::renderScene(desc);
+        FAIL() << "a 3-RoSy field was hatched along a quad mesh";
+    } catch (const InputError &e) {
+        EXPECT_NE(std::string(e.what()).find("hatch.lines: quad_mesh"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("N = 3"), std::string::npos) << e.what();
+    }
+}
