@@ -32,10 +32,14 @@ TEST(FeatureCurves, CubeHasTwelveEdgesMeetingAtEightCorners) {
         EXPECT_EQ(c.onCurve(v), atSide >= 2) << v;
         EXPECT_EQ(bool(c.corner[size_t(v)]), atSide == 3) << v;
         corners += c.corner[size_t(v)];
-        if (atSide == 3) EXPECT_EQ(c.degree[size_t(v)], 3);
+        if (atSide == 3) {
+            EXPECT_EQ(c.degree[size_t(v)], 3);
+        }
         if (atSide == 2) { // along the axis where p is not at ±1
             for (int k = 0; k < 3; ++k)
-                if (std::abs(std::abs(p[k]) - 1) > 1e-12) EXPECT_NEAR(std::abs(c.tangent[size_t(v)][k]), 1, 1e-12);
+                if (std::abs(std::abs(p[k]) - 1) > 1e-12) {
+                    EXPECT_NEAR(std::abs(c.tangent[size_t(v)][k]), 1, 1e-12);
+                }
         }
     }
     EXPECT_EQ(corners, 8);
