@@ -14,6 +14,11 @@ using VH = OpenMesh::VertexHandle;
 constexpr double kMaxIrregularTurnDeg = 20.0;
 /// Rounds of averaging the edges' family scores over their neighbours.
 constexpr int kFamilyRounds = 8;
+/// A vertex votes for a family only when the normal turns by more than this (radians,
+/// over its two edges in the faster direction) and the two directions' turns differ
+/// by more than kMinVoteContrast of the larger.
+constexpr double kMinVoteTurn = 0.02;
+constexpr double kMinVoteContrast = 0.25;
 /// Vertices of this valence or more are the centres of fans (remesh.cpp fills
 /// polygons of more than six sides with a fan round their centroid): their spokes
 /// are no lattice lines, and drawn they read as a star, so they are on no line.
@@ -191,8 +196,8 @@ std::vector<EdgeLine> edgeLines(const field::PolyMesh &mesh) {
         }
     }
     // Around the form first: at each regular interior vertex, of the two directions
-    // crossing there the one whose normal turns faster (larger normal curvature,
-    // |Δn| / |Δp| over its two edges) scores +1 on its edges, the other −1 — on a
+    // crossing there the one along which the normal turns clearly more (over its two
+    // edges, which are about L long both ways) scores +1 on its edges, the other −1 — on a
     // cylinder the rings, not the rulings. The scores are averaged over the edges'
     // neighbours (the opposite side of each quad, the next edge along the line) for
     // kFamilyRounds rounds, so an edge of an umbilic patch, whose own vote is noise,
@@ -200,10 +205,9 @@ std::vector<EdgeLine> edgeLines(const field::PolyMesh &mesh) {
     // negative, the colouring above where it is zero (flat parts).
     std::vector<Vec3> vertexNormal(mesh.n_vertices());
     for (auto v : mesh.vertices()) vertexNormal[size_t(v.idx())] = normal(v);
-    auto turning = [&](HH h) {
+    auto turning = [&](HH h) { // the angle the normal turns by along h (about |Δn|)
         const VH a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
-        const double len = (point(b) - point(a)).norm();
-        return len > 0 ? (vertexNormal[size_t(b.idx())] - vertexNormal[size_t(a.idx())]).norm() / len : 0.0;
+        return (vertexNormal[size_t(b.idx())] - vertexNormal[size_t(a.idx())]).norm();
     };
     std::vector<double> score(nEdges, 0.0), weight(nEdges, 0.0), next(nEdges);
     for (auto v : mesh.vertices()) {
@@ -211,8 +215,13 @@ std::vector<EdgeLine> edgeLines(const field::PolyMesh &mesh) {
         HH out[4];
         int k = 0;
         for (auto it = mesh.cvoh_iter(v); it.is_valid() && k < 4; ++it) out[k++] = *it;
+        // Only a clear difference votes: on a flat or umbilic part the normals' turns
+        // are rounding noise, which would hatch a flat face in a maze of patches; there
+        // the colouring decides, the same all over the face.
         const double ka = turning(out[0]) + turning(out[2]), kb = turning(out[1]) + turning(out[3]);
-        const double vote = ka > kb ? 1.0 : ka < kb ? -1.0 : 0.0;
+        const double larger = std::max(ka, kb);
+        const bool clear = larger > kMinVoteTurn && std::abs(ka - kb) > kMinVoteContrast * larger;
+        const double vote = !clear ? 0.0 : ka > kb ? 1.0 : -1.0;
         for (int j = 0; j < 4; ++j) {
             const size_t ej = size_t(mesh.edge_handle(out[j]).idx());
             score[ej] += j % 2 == 0 ? vote : -vote;
