@@ -160,7 +160,16 @@ std::vector<renderer::SurfaceLine> quadMeshLines(const LoadedScene &loaded, cons
     // render), so the terminal shows it (after about a second, core/progress.h).
     std::optional<Progress> bar;
     if (progress) bar.emplace("remeshing", std::vector<ProgressStage>{{"quad mesh", 95}, {"lines", 5}});
-    const remesh::RemeshResult mesh = remesh::remesh(*loaded.frames, cross, singularities, options);
+    remesh::RemeshResult mesh;
+    try {
+        mesh = remesh::remesh(*loaded.frames, cross, singularities, options);
+    } catch (const InputError &e) { // said of `remesh --edge`; here the edge is the style's
+        throw InputError(FileLoc{scene.mesh.name()},
+                         fmt::format("style.hatch.lines: quad_mesh: the quad mesh's edge of {} px at this camera "
+                                     "is {:.3g} world units, too short to remesh ({})",
+                                     scene.style.hatch.quadEdgePx, options.edgeLength, e.message()),
+                         "raise style.hatch.quad_edge_px or lower camera.resolution");
+    }
     if (bar) bar->beginStage(1);
     std::vector<renderer::SurfaceLine> lines;
     for (remesh::EdgeLine &l : remesh::edgeLines(mesh.poly))
