@@ -24,18 +24,20 @@ Vec3 anyOrthogonal(const Vec3 &n) {
 
 TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
     const int nV = mesh.nVertices(), nF = mesh.nFaces(), nH = mesh.nHalfedges();
-    m_angleOut.assign(nH, 0.0);
-    m_angleIn.assign(nH, 0.0);
-    m_transport.assign(nH, 0.0);
-    m_scale.assign(nV, 1.0);
-    m_faceHolonomy.assign(nF, 0.0);
-    m_normal.assign(nV, Vec3::UnitZ());
-    m_projAngle.assign(nH, 0.0);
-    m_projTotal.assign(nV, kTwoPi);
-    m_angleTotal.assign(nV, kTwoPi);
-    m_faceX.assign(nF, Vec3::UnitX());
-    m_faceY.assign(nF, Vec3::UnitY());
-    m_vertexToFace.assign(nH, 0.0);
+    // Sized only: every element is written below, in parallel (the one-rings cover every
+    // halfedge once), so the pages are first touched there rather than by one thread here.
+    m_angleOut.resize(nH);
+    m_angleIn.resize(nH);
+    m_transport.resize(nH);
+    m_scale.resize(nV);
+    m_faceHolonomy.resize(nF);
+    m_normal.resize(nV);
+    m_projAngle.resize(nH);
+    m_projTotal.resize(nV);
+    m_angleTotal.resize(nV);
+    m_faceX.resize(nF);
+    m_faceY.resize(nF);
+    m_vertexToFace.resize(nH);
 
     // Corner angles and face normals once each (kept by the mesh): the vertex normals
     // below are Mesh::vertexNormal() summed from them (the same terms in the same order).
@@ -120,7 +122,12 @@ TangentFrames::TangentFrames(const Mesh &mesh) : m_mesh(&mesh) {
         m_faceHolonomy[f] = k;
         const Vec3 &n = faceNormal[size_t(f)];
         Vec3 x = mesh.vector(3 * f);
-        if (x.squaredNorm() == 0 || n.squaredNorm() == 0) return; // degenerate: keep defaults
+        if (x.squaredNorm() == 0 || n.squaredNorm() == 0) { // degenerate: default frame
+            m_faceX[f] = Vec3::UnitX();
+            m_faceY[f] = Vec3::UnitY();
+            for (int c = 0; c < 3; ++c) m_vertexToFace[3 * f + c] = 0.0;
+            return;
+        }
         x.normalize();
         m_faceX[f] = x;
         m_faceY[f] = n.cross(x);

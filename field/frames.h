@@ -23,6 +23,7 @@
 /// at tail(h) to that face's frame (exact along the edges of the face).
 
 #include "field/mesh.h"
+#include "field/mesh/uninitialized.h"
 #include "field/rosy.h"
 
 #include <vector>
@@ -83,16 +84,19 @@ private:
     void knots(int v, std::vector<double> &phi, std::vector<double> &psi) const;
     void tangentBasis(int v, Vec3 &e1, Vec3 &e2) const;
 
+    // Sized without initial values: the constructor's parallel loops write every element.
+    template <typename T>
+    using Array = detail::UninitializedVector<T>;
     const Mesh *m_mesh;
-    std::vector<double> m_angleOut, m_angleIn, m_transport; // #3F
-    std::vector<double> m_scale;                           // #V
-    std::vector<double> m_faceHolonomy;                    // #F
-    std::vector<Vec3> m_normal;                            // #V
-    std::vector<double> m_projAngle; // CSR like the rings: projected cumulative angle of each ring halfedge
-    std::vector<double> m_projTotal; // #V: projected angle at the end of the last wedge
-    std::vector<double> m_angleTotal; // #V: 2π inside, Θ_v on the boundary
-    std::vector<Vec3> m_faceX, m_faceY;                    // #F
-    std::vector<double> m_vertexToFace;                    // #3F
+    Array<double> m_angleOut, m_angleIn, m_transport; // #3F
+    Array<double> m_scale;                           // #V
+    Array<double> m_faceHolonomy;                    // #F
+    Array<Vec3> m_normal;                            // #V
+    Array<double> m_projAngle; // CSR like the rings: projected cumulative angle of each ring halfedge
+    Array<double> m_projTotal; // #V: projected angle at the end of the last wedge
+    Array<double> m_angleTotal; // #V: 2π inside, Θ_v on the boundary
+    Array<Vec3> m_faceX, m_faceY;                    // #F
+    Array<double> m_vertexToFace;                    // #3F
 };
 
 } // namespace rosy::field
