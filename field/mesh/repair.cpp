@@ -3,13 +3,15 @@
 #include "core/diagnostics.h"
 #include "core/error.h"
 #include "field/mesh/mesh_scan.h"
+#include "field/mesh/uninitialized.h"
 #include "field/mesh/union_find.h"
+#include "core/parallel.h"
 
-#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <exception>
 #include <numeric>
 #include <optional>
@@ -38,37 +40,50 @@ struct EdgeFaces {
 EdgeFaces buildEdgeFaces(const std::vector<Face> &tris) {
     // Bucket the edges by their smaller vertex (a counting sort), then sort each
     // small bucket by (larger vertex, face): the same order as one global sort of
-    // (key, face) pairs, without its cost.
+    // (key, face) pairs, without its cost. The buckets are sorted, counted and
+    // written out in parallel, each at offsets fixed by the counts before it.
     int nV = 0;
     for (const Face &t : tris) nV = std::max({nV, t[0] + 1, t[1] + 1, t[2] + 1});
     std::vector<int> start(size_t(nV) + 1, 0);
     for (const Face &t : tris)
         for (int k = 0; k < 3; ++k) ++start[size_t(std::min(t[k], t[(k + 1) % 3])) + 1];
     for (int v = 0; v < nV; ++v) start[v + 1] += start[v];
-    std::vector<std::pair<int, int>> bucket(3 * tris.size()); // (larger vertex, face)
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int f = 0; f < int(tris.size()); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const int a = tris[f][k], b = tris[f][(k + 1) % 3];
-            bucket[fill[std::min(a, b)]++] = {std::max(a, b), f};
-        }
-    EdgeFaces ef;
-    ef.keys.reserve(bucket.size() / 2 + 1);
-    ef.offset.reserve(bucket.size() / 2 + 2);
-    ef.faces.reserve(bucket.size());
-    for (int v = 0; v < nV; ++v) {
+    detail::UninitializedVector<std::pair<int, int>> bucket(3 * tris.size()); // (larger vertex, face)
+    {
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (int f = 0; f < int(tris.size()); ++f)
+            for (int k = 0; k < 3; ++k) {
+                const int a = tris[f][k], b = tris[f][(k + 1) % 3];
+                bucket[fill[std::min(a, b)]++] = {std::max(a, b), f};
+            }
+    }
+    // Distinct edges per bucket, then their first index (a prefix sum in vertex order).
+    std::vector<int> edgeStart(size_t(nV) + 1, 0);
+    parallelFor(0, nV, [&](int64_t v) {
         const auto first = bucket.begin() + start[v], last = bucket.begin() + start[v + 1];
         std::sort(first, last);
-        for (auto it = first; it != last; ++it) {
-            const uint64_t key = edgeKey(v, it->first);
-            if (ef.keys.empty() || ef.keys.back() != key) {
-                ef.keys.push_back(key);
-                ef.offset.push_back(int(ef.faces.size()));
+        int n = 0;
+        for (auto it = first; it != last; ++it)
+            if (it == first || it->first != (it - 1)->first) ++n;
+        edgeStart[size_t(v) + 1] = n;
+    }, 1024);
+    for (int v = 0; v < nV; ++v) edgeStart[v + 1] += edgeStart[v];
+    EdgeFaces ef;
+    ef.keys.resize(size_t(edgeStart[nV]));
+    ef.offset.resize(size_t(edgeStart[nV]) + 1);
+    ef.faces.resize(bucket.size());
+    parallelFor(0, nV, [&](int64_t v) {
+        int e = edgeStart[v];
+        for (int i = start[v]; i < start[v + 1]; ++i) {
+            if (i == start[v] || bucket[i].first != bucket[i - 1].first) {
+                ef.keys[size_t(e)] = edgeKey(int(v), bucket[i].first);
+                ef.offset[size_t(e)] = i;
+                ++e;
             }
-            ef.faces.push_back(it->second);
+            ef.faces[size_t(i)] = bucket[i].second;
         }
-    }
-    ef.offset.push_back(int(ef.faces.size()));
+    }, 1024);
+    ef.offset.back() = int(ef.faces.size());
     return ef;
 }
 
@@ -255,23 +270,43 @@ void dropDegenerateFaces(const std::vector<Vec3> &positions, std::vector<Face> &
 
 /// Duplicate faces (same vertex set, either orientation): keeps the first.
 void dropDuplicateFaces(std::vector<Face> &tris, LoadReport &rep) {
-    std::vector<std::pair<std::array<int, 3>, int>> sorted(tris.size());
-    for (int f = 0; f < int(tris.size()); ++f) {
-        std::array<int, 3> s = tris[f];
-        std::sort(s.begin(), s.end());
-        sorted[f] = {s, f};
-    }
-    tbb::parallel_sort(sorted.begin(), sorted.end()); // keys unique (face index last)
-    std::vector<uint8_t> drop(tris.size(), 0);
-    for (size_t i = 1; i < sorted.size(); ++i)
-        if (sorted[i].first == sorted[i - 1].first) {
-            drop[sorted[i].second] = 1;
-            ++rep.duplicateFacesDropped;
+    // Faces bucketed by their smallest vertex (a counting sort); each bucket sorted by
+    // (middle, largest vertex, face) in parallel, so equal vertex sets lie together,
+    // the first face of each first.
+    const int nF = int(tris.size());
+    int nV = 0;
+    for (const Face &t : tris) nV = std::max({nV, t[0] + 1, t[1] + 1, t[2] + 1});
+    auto sortedFace = [&](int f) {
+        std::array<int, 3> s = tris[size_t(f)];
+        if (s[0] > s[1]) std::swap(s[0], s[1]);
+        if (s[1] > s[2]) std::swap(s[1], s[2]);
+        if (s[0] > s[1]) std::swap(s[0], s[1]);
+        return s;
+    };
+    std::vector<int> start(size_t(nV) + 1, 0);
+    for (int f = 0; f < nF; ++f) ++start[size_t(sortedFace(f)[0]) + 1];
+    for (int v = 0; v < nV; ++v) start[v + 1] += start[v];
+    detail::UninitializedVector<std::array<int, 3>> bucket(tris.size()); // (middle, largest, face)
+    {
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (int f = 0; f < nF; ++f) {
+            const std::array<int, 3> s = sortedFace(f);
+            bucket[size_t(fill[size_t(s[0])]++)] = {s[1], s[2], f};
         }
+    }
+    std::vector<uint8_t> drop(tris.size(), 0);
+    parallelFor(0, nV, [&](int64_t v) {
+        const auto first = bucket.begin() + start[v], last = bucket.begin() + start[v + 1];
+        std::sort(first, last);
+        for (auto it = first; it != last; ++it)
+            if (it != first && (*it)[0] == (*(it - 1))[0] && (*it)[1] == (*(it - 1))[1]) drop[size_t((*it)[2])] = 1;
+    }, 1024);
     std::vector<Face> kept;
     kept.reserve(tris.size());
-    for (int f = 0; f < int(tris.size()); ++f)
-        if (!drop[f]) kept.push_back(tris[f]);
+    for (int f = 0; f < nF; ++f) {
+        if (drop[size_t(f)]) ++rep.duplicateFacesDropped;
+        else kept.push_back(tris[size_t(f)]);
+    }
     tris.swap(kept);
 }
 
@@ -337,19 +372,12 @@ void compactVertices(std::vector<Vec3> &positions, std::vector<Face> &tris) {
     positions.swap(compact);
 }
 
-/// Consistent orientation by BFS over manifold edges, per component. The
-/// orientation that flips fewer faces wins (ties keep the first face's).
-/// \throws InputError if a component is not orientable.
-void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadReport &rep,
-                             const EdgeFaces *edgeFaces = nullptr) {
-    const int nF = int(tris.size());
-    std::optional<EdgeFaces> built;
-    if (!edgeFaces) built = buildEdgeFaces(tris);
-    const EdgeFaces &ef = edgeFaces ? *edgeFaces : *built;
-    // Neighbour across each corner's edge (k -> k+1), or -1.
-    std::vector<int> nbr(3 * nF, -1);
-    for (size_t e = 0; e < ef.keys.size(); ++e) {
-        if (ef.offset[e + 1] - ef.offset[e] != 2) continue;
+/// The face across each corner's edge (k -> k+1) where that edge has exactly two
+/// faces, else -1. Each edge writes only its own two faces' slots.
+std::vector<int> faceNeighbours(const std::vector<Face> &tris, const EdgeFaces &ef) {
+    std::vector<int> nbr(3 * tris.size(), -1);
+    parallelFor(0, int64_t(ef.keys.size()), [&](int64_t e) {
+        if (ef.offset[e + 1] - ef.offset[e] != 2) return;
         const int f = ef.faces[ef.offset[e]], g = ef.faces[ef.offset[e] + 1];
         const int a = int(ef.keys[e] >> 32), b = int(ef.keys[e] & 0xffffffffu);
         for (int k = 0; k < 3; ++k) {
@@ -358,7 +386,82 @@ void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadRe
             const int u = tris[g][k], w = tris[g][(k + 1) % 3];
             if ((u == a && w == b) || (u == b && w == a)) nbr[3 * g + k] = f;
         }
-    }
+    }, 4096);
+    return nbr;
+}
+
+/// Edges with more than two faces.
+int countCrowdedEdges(const EdgeFaces &ef) {
+    int n = 0;
+    for (size_t e = 0; e < ef.keys.size(); ++e) n += ef.offset[e + 1] - ef.offset[e] > 2;
+    return n;
+}
+
+/// The number of vertices whose faces form more than one fan, where no edge has
+/// more than two faces: what splitVertices(..., cutEdges = false) counts there (its
+/// corner groups at v are v's faces joined across shared edges at v), found per
+/// vertex in parallel by walking v's fan across the two-face edges `nbr`.
+int countPinchedVertices(int nV, const std::vector<Face> &tris, const std::vector<int> &nbr) {
+    std::vector<int> degree(size_t(nV), 0), someFace(size_t(nV), -1);
+    for (int f = 0; f < int(tris.size()); ++f)
+        for (int v : tris[f]) {
+            ++degree[size_t(v)];
+            someFace[size_t(v)] = f;
+        }
+    std::vector<uint8_t> pinched(size_t(nV), 0);
+    parallelFor(0, nV, [&](int64_t vi) {
+        const int v = int(vi), f0 = someFace[size_t(vi)];
+        if (f0 < 0) return;
+        // Faces reached from f0 leaving through its edge `slot` (one of its two edges at v).
+        auto walk = [&](int slot) {
+            int reached = 0, f = f0;
+            while (reached < degree[size_t(v)]) {
+                const int g = nbr[3 * f + slot];
+                if (g < 0) return std::pair(reached, false);
+                if (g == f0) return std::pair(reached, true);
+                // The edge crossed is {v, w}; leave g through its other edge at v.
+                const Face &t = tris[f];
+                const int w = t[slot] == v ? t[(slot + 1) % 3] : t[slot];
+                const int c = cornerOf(tris[g], v);
+                slot = tris[g][(c + 1) % 3] == w ? (c + 2) % 3 : c;
+                f = g;
+                ++reached;
+            }
+            return std::pair(reached, true);
+        };
+        const int c0 = cornerOf(tris[f0], v);
+        const auto [forward, closed] = walk(c0);
+        const int fan = 1 + forward + (closed ? 0 : walk((c0 + 2) % 3).first);
+        pinched[size_t(vi)] = fan != degree[size_t(vi)];
+    }, 1024);
+    int n = 0;
+    for (uint8_t p : pinched) n += p;
+    return n;
+}
+
+/// True if the two faces of every two-face edge run it in opposite directions: then
+/// orientFacesConsistently() flips nothing (every face keeps its seed's orientation).
+bool orientedConsistently(const std::vector<Face> &tris, const EdgeFaces &ef) {
+    std::atomic<bool> consistent{true};
+    parallelFor(0, int64_t(ef.keys.size()), [&](int64_t e) {
+        if (ef.offset[e + 1] - ef.offset[e] != 2) return;
+        const int f = ef.faces[ef.offset[e]], g = ef.faces[ef.offset[e] + 1];
+        const int a = int(ef.keys[e] >> 32), b = int(ef.keys[e] & 0xffffffffu);
+        if (runs(tris[f], a, b) == runs(tris[g], a, b)) consistent = false;
+    }, 4096);
+    return consistent;
+}
+
+/// Consistent orientation by BFS over manifold edges, per component. The
+/// orientation that flips fewer faces wins (ties keep the first face's).
+/// \throws InputError if a component is not orientable.
+/// `neighbours`, when given, is faceNeighbours(tris, buildEdgeFaces(tris)).
+void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadReport &rep,
+                             const std::vector<int> *neighbours = nullptr) {
+    const int nF = int(tris.size());
+    std::optional<std::vector<int>> built;
+    if (!neighbours) built = faceNeighbours(tris, buildEdgeFaces(tris));
+    const std::vector<int> &nbr = neighbours ? *neighbours : *built;
     std::vector<int8_t> flip(nF, -1);
     std::vector<int> queue, comp;
     for (int seed = 0; seed < nF; ++seed) {
@@ -428,23 +531,20 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
                          "a surface mesh needs at least one triangle");
 
     // Counting the non-manifold elements and orienting the faces read the same
-    // triangles and the same edge-face incidences: they run at once, the orientation
-    // on a copy. When nothing is split (the usual case) the copy is the result
-    // (dropping unused vertices only renames them, which changes no flip and no
-    // message); otherwise it is thrown away and the steps run in their order.
+    // triangles and the same edge-face incidences, built once. Without an edge of
+    // more than two faces (the usual case) the pinched vertices are counted by
+    // walking each vertex's fan and the orientation is decided before any split:
+    // when nothing is split, dropping unused vertices only renames them, which
+    // changes no flip and no message. Otherwise the steps run in their order.
     const EdgeFaces edgeFaces = buildEdgeFaces(tris);
-    std::vector<Face> oriented;
-    LoadReport orientation;
-    std::exception_ptr orientationError;
-    tbb::parallel_invoke([&] { countNonManifoldElements(positions, tris, edgeFaces, rep); },
-                         [&] {
-                             oriented = tris;
-                             try {
-                                 orientFacesConsistently(oriented, loc, orientation, &edgeFaces);
-                             } catch (const InputError &) {
-                                 orientationError = std::current_exception();
-                             }
-                         });
+    rep.nonManifoldEdgesSplit = countCrowdedEdges(edgeFaces);
+    std::vector<int> neighbours;
+    if (rep.nonManifoldEdgesSplit == 0) {
+        neighbours = faceNeighbours(tris, edgeFaces);
+        rep.nonManifoldVerticesSplit = countPinchedVertices(int(positions.size()), tris, neighbours);
+    } else {
+        countNonManifoldElements(positions, tris, edgeFaces, rep);
+    }
     report(name, options, "nonmanifold-edges", rep.nonManifoldEdgesSplit,
            "edges shared by more than two faces", "extra faces split off onto duplicated vertices");
     report(name, options, "nonmanifold-vertices", rep.nonManifoldVerticesSplit,
@@ -454,9 +554,8 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
         compactVertices(positions, tris);
         orientFacesConsistently(tris, loc, rep);
     } else {
-        if (orientationError) std::rethrow_exception(orientationError);
-        tris = std::move(oriented);
-        rep.facesReoriented = orientation.facesReoriented;
+        // Already consistent (the usual case): the search below would flip nothing.
+        if (!orientedConsistently(tris, edgeFaces)) orientFacesConsistently(tris, loc, rep, &neighbours);
         compactVertices(positions, tris);
     }
     report(name, options, "reoriented-faces", rep.facesReoriented,

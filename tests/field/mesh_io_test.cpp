@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <chrono>
 #include <cmath>
@@ -293,6 +294,72 @@ TEST(MeshRepair, BowTieVertexIsSplitIntoTwoComponents) {
     LoadOptions strict;
     strict.repair = false;
     EXPECT_THROW(repairAndBuild(p, {{0, 1, 2}, {0, 3, 4}}, "bowtie", strict), InputError);
+}
+
+TEST(MeshRepair, TwoClosedFansAtOneVertexAreSplit) {
+    // Two tetrahedra sharing only vertex 0 (the second is the first reflected through
+    // it): each fan around 0 is closed, so 0 has as many faces as edges at it and only
+    // following the fans tells the two apart.
+    std::vector<Vec3> p = kTetraP;
+    for (int k = 1; k < 4; ++k) p.push_back(-kTetraP[size_t(k)]);
+    const std::vector<std::vector<int>> f = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3},
+                                             {0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}};
+    WarningCapture capture;
+    LoadReport rep;
+    Mesh m = repairAndBuild(p, f, "cones", {}, &rep);
+    EXPECT_EQ(rep.nonManifoldVerticesSplit, 1);
+    EXPECT_EQ(rep.nonManifoldEdgesSplit, 0);
+    EXPECT_EQ(rep.facesReoriented, 0);
+    MeshStats s = computeStats(m);
+    EXPECT_EQ(s.vertices, 8);
+    EXPECT_EQ(s.components, 2);
+    EXPECT_EQ(s.eulerCharacteristic, 4);
+    EXPECT_NEAR(signedVolume(m), 2.0 / 6.0, 1e-12);
+}
+
+TEST(MeshRepair, SameMeshAndReportForOneAndTwoThreads) {
+    // Soups large enough for the parallel steps to split their work: tetrahedra in
+    // pairs pinched at a shared vertex, and separate ones with every third one's last
+    // face flipped; the counts follow from the construction.
+    const int n = 1500;
+    std::vector<Vec3> pinchedP, flippedP;
+    std::vector<std::vector<int>> pinchedF, flippedF;
+    for (int i = 0; i < n; ++i) {
+        const Vec3 at(3.0 * i, 0, 0);
+        const int b = int(pinchedP.size());
+        for (const Vec3 &q : kTetraP) pinchedP.push_back(at + q);
+        for (int k = 1; k < 4; ++k) pinchedP.push_back(at - kTetraP[size_t(k)]);
+        for (const auto &t : std::vector<std::vector<int>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3},
+                                                           {0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}})
+            pinchedF.push_back({b + t[0], b + t[1], b + t[2]});
+        const int c = int(flippedP.size());
+        for (const Vec3 &q : kTetraP) flippedP.push_back(at + q);
+        for (size_t k = 0; k < kTetraF.size(); ++k) {
+            std::vector<int> t = {c + kTetraF[k][0], c + kTetraF[k][1], c + kTetraF[k][2]};
+            if (i % 3 == 0 && k == 3) std::swap(t[1], t[2]);
+            flippedF.push_back(t);
+        }
+    }
+    auto build = [](int threads, const std::vector<Vec3> &p, const std::vector<std::vector<int>> &f,
+                    LoadReport &rep) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        WarningCapture quiet;
+        return repairAndBuild(p, f, "soup", {}, &rep);
+    };
+    LoadReport r1, r2;
+    Mesh a = build(1, pinchedP, pinchedF, r1), b = build(2, pinchedP, pinchedF, r2);
+    EXPECT_EQ(r1.nonManifoldVerticesSplit, n);
+    EXPECT_EQ(r2.nonManifoldVerticesSplit, n);
+    EXPECT_EQ(a.positions(), b.positions());
+    EXPECT_EQ(a.faces(), b.faces());
+    EXPECT_EQ(a.nVertices(), 8 * n);
+    a = build(1, flippedP, flippedF, r1);
+    b = build(2, flippedP, flippedF, r2);
+    EXPECT_EQ(r1.facesReoriented, n / 3);
+    EXPECT_EQ(r2.facesReoriented, n / 3);
+    EXPECT_EQ(r1.nonManifoldVerticesSplit + r2.nonManifoldVerticesSplit, 0);
+    EXPECT_EQ(a.faces(), b.faces());
+    EXPECT_NEAR(signedVolume(a), n / 6.0, 1e-9);
 }
 
 TEST(MeshRepair, ThirdFaceOnAnEdgeIsSplitOff) {
