@@ -10,7 +10,7 @@ namespace {
 constexpr double kTwoPi = 2.0 * M_PI;
 
 double wrap2Pi(double a) {
-    a = std::fmod(a, kTwoPi);
+    a = fmodTwoPi(a);
     return a < 0 ? a + kTwoPi : a;
 }
 

@@ -17,9 +17,34 @@ namespace rosy::field {
 
 using Complex = std::complex<double>;
 
+/// std::remainder(a, 2π) (π, 2π: the doubles M_PI, 2 M_PI), bit for bit, without the
+/// library call for |a| < 3π. The remainder a − n·2π (n the integer nearest a / 2π, ties
+/// to even) is always a double, so where n is 0 it is a, and where n is ±1 the
+/// subtraction a ∓ 2π has it as its exact result; n = ±1 holds exactly when that
+/// difference lies strictly within ±π (rounding is monotone and π is a double) and is
+/// not zero.
+inline double remainderTwoPi(double a) {
+    if (std::abs(a) <= M_PI) return a; // n = 0 (a tie at ±π goes to the even n = 0)
+    const double d = a > 0 ? a - 2.0 * M_PI : a + 2.0 * M_PI;
+    if (std::abs(d) < M_PI && d != 0) return d;
+    // |a| >= 3π, a tie at ±3π, a = ±2π (whose remainder is a zero with a's sign), NaN
+    // and infinities.
+    return std::remainder(a, 2.0 * M_PI);
+}
+
+/// std::fmod(a, 2π), bit for bit, without the library call for 0 <= a < 4π: the result
+/// a − n·2π (n = trunc(a / 2π)) is always a double, so where n is 0 it is a, and where
+/// n is 1 (exactly when 2π <= a < 4π, both bounds doubles) the subtraction a − 2π has
+/// it as its exact result.
+inline double fmodTwoPi(double a) {
+    if (a >= 0 && a < 2.0 * M_PI) return a;
+    if (a >= 2.0 * M_PI && a < 4.0 * M_PI) return a - 2.0 * M_PI;
+    return std::fmod(a, 2.0 * M_PI); // negative, 4π and beyond, NaN and infinities
+}
+
 /// Wraps an angle into (−π, π].
 inline double wrapAngle(double a) {
-    a = std::remainder(a, 2.0 * M_PI);
+    a = remainderTwoPi(a);
     return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 

@@ -1,6 +1,11 @@
 #include "field/rosy.h"
 
 #include <gtest/gtest.h>
+#include <cmath>
+#include <vector>
+#include <cstdint>
+#include <random>
+#include <cstring>
 
 using namespace rosy::field;
 
@@ -42,4 +47,28 @@ TEST(WrapAngle, IntoHalfOpenInterval) {
     EXPECT_NEAR(wrapAngle(3 * M_PI), M_PI, 1e-12);
     EXPECT_NEAR(wrapAngle(-M_PI), M_PI, 1e-12);
     EXPECT_NEAR(wrapAngle(0.5 + 4 * M_PI), 0.5, 1e-12);
+}
+
+TEST(WrapAngle, RemainderAndFmodOfTwoPiAreTheLibrarysBitForBit) {
+    // The shortcuts must give exactly what std::remainder and std::fmod give: at and
+    // next to every multiple of π up to 8π (ties included), spread values, tiny,
+    // huge, signed zeros, infinities and NaN.
+    std::vector<double> xs = {0.0, -0.0, 1e-310, -1e-310, 1e300, -1e300, HUGE_VAL, -HUGE_VAL, std::nan("")};
+    for (int k = -8; k <= 8; ++k)
+        for (double base : {k * M_PI, k * (2.0 * M_PI) / 2.0, M_PI + k * (2.0 * M_PI), double(k) * 2.0 * M_PI})
+            for (double x = std::nextafter(std::nextafter(base, -HUGE_VAL), -HUGE_VAL), n = 0; n < 5;
+                 ++n, x = std::nextafter(x, HUGE_VAL))
+                xs.push_back(x);
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> spread(-30.0, 30.0);
+    for (int i = 0; i < 200000; ++i) xs.push_back(spread(rng));
+    auto bits = [](double v) {
+        uint64_t b;
+        std::memcpy(&b, &v, sizeof b);
+        return std::isnan(v) ? uint64_t(1) : b; // any NaN is a NaN
+    };
+    for (double x : xs) {
+        ASSERT_EQ(bits(remainderTwoPi(x)), bits(std::remainder(x, 2.0 * M_PI))) << x;
+        ASSERT_EQ(bits(fmodTwoPi(x)), bits(std::fmod(x, 2.0 * M_PI))) << x;
+    }
 }
