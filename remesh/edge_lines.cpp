@@ -77,15 +77,18 @@ std::vector<EdgeLine> edgeLines(const field::PolyMesh &mesh) {
         const auto &p = mesh.point(v);
         return Vec3(p[0], p[1], p[2]);
     };
-    auto normal = [&](VH v) {
+    // Unit vertex normals (the mean of the faces' around each), once: the lines carry
+    // them and the family votes compare them.
+    std::vector<Vec3> vertexNormal(mesh.n_vertices(), Vec3::Zero());
+    for (auto v : mesh.vertices()) {
         Vec3 n = Vec3::Zero();
         for (auto f : mesh.vf_range(v)) {
             const auto fn = mesh.calc_face_normal(f);
             n += Vec3(fn[0], fn[1], fn[2]);
         }
         const double len = n.norm();
-        return len > 0 ? Vec3(n / len) : n;
-    };
+        if (len > 0) vertexNormal[size_t(v.idx())] = n / len;
+    }
     for (size_t e = 0; e < nEdges; ++e) {
         if (lineOf[e] != -1) continue;
         const auto eh = mesh.edge_handle(int(e));
@@ -124,7 +127,7 @@ std::vector<EdgeLine> edgeLines(const field::PolyMesh &mesh) {
         line.normals.reserve(all.size());
         for (VH v : all) {
             line.points.push_back(point(v));
-            line.normals.push_back(normal(v));
+            line.normals.push_back(vertexNormal[size_t(v.idx())]);
         }
         lines.push_back(std::move(line));
         std::vector<int> edges(backwardEdges.rbegin(), backwardEdges.rend());
@@ -203,8 +206,6 @@ std::vector<EdgeLine> edgeLines(const field::PolyMesh &mesh) {
     // kFamilyRounds rounds, so an edge of an umbilic patch, whose own vote is noise,
     // follows those around it; family 0 where the result is positive, 1 where it is
     // negative, the colouring above where it is zero (flat parts).
-    std::vector<Vec3> vertexNormal(mesh.n_vertices());
-    for (auto v : mesh.vertices()) vertexNormal[size_t(v.idx())] = normal(v);
     auto turning = [&](HH h) { // the angle the normal turns by along h (about |Δn|)
         const VH a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
         return (vertexNormal[size_t(b.idx())] - vertexNormal[size_t(a.idx())]).norm();

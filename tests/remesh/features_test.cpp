@@ -10,6 +10,7 @@
 #include "field/singularities.h"
 #include "remesh/quality.h"
 #include "remesh/remesh.h"
+#include "remesh_helpers.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -22,40 +23,18 @@ namespace {
 
 using field::Mesh;
 
-struct Remeshed {
-    RemeshResult result;
-    QualityReport quality;
-    double edgeLength = 0;
-};
+using helpers::expectValid;
+using helpers::Remeshed;
 
 /// Field and remesher both with feature angle `angleDeg` (0: off), L = relativeEdge × diagonal,
 /// the field ignoring creases shorter than 2 L as the remesher does (what `rosyhatch remesh` sets).
 Remeshed run(const Mesh &mesh, double relativeEdge, double angleDeg) {
-    const field::TangentFrames frames(mesh);
     field::FieldSpec spec;
     spec.featureAngleDeg = angleDeg;
     spec.featureMinLength = 2 * relativeEdge;
-    const field::FieldResult fr = field::buildField(frames, spec);
-    const field::SingularityReport sing = field::findSingularities(frames, fr.field);
-    Vec3 lo, hi;
-    mesh.bounds(lo, hi);
     RemeshOptions opt;
-    opt.edgeLength = relativeEdge * (hi - lo).norm();
     opt.featureAngleDeg = angleDeg;
-    Remeshed out;
-    out.edgeLength = opt.edgeLength;
-    out.result = remesh(frames, fr.field, sing, opt);
-    out.quality = measureQuality(out.result.positions, out.result.polygons, frames, fr.field, sing, opt.edgeLength);
-    return out;
-}
-
-void expectValid(const QualityReport &q, int chi) {
-    EXPECT_TRUE(q.manifold) << q.nonManifoldEdges << " edges, " << q.nonManifoldVertices << " vertices";
-    EXPECT_TRUE(q.oriented) << q.inconsistentEdges;
-    EXPECT_EQ(q.eulerCharacteristic, chi);
-    EXPECT_EQ(q.degenerateFaces, 0);
-    EXPECT_EQ(q.flippedFaces, 0);
-    EXPECT_EQ(q.valence2Vertices, 0);
+    return helpers::remeshAndMeasure(mesh, spec, opt, relativeEdge);
 }
 
 double segmentDistance(const Vec3 &x, const Vec3 &a, const Vec3 &b) {

@@ -8,6 +8,7 @@
 #include "field/singularities.h"
 #include "remesh/quality.h"
 #include "remesh/remesh.h"
+#include "remesh_helpers.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -19,43 +20,24 @@ namespace {
 
 using field::Mesh;
 
-struct Remeshed {
-    RemeshResult result;
-    QualityReport quality;
-    field::SingularityReport singularities;
-};
+using helpers::Remeshed;
 
 Remeshed run(const Mesh &mesh, int nSym, double relativeEdge, bool separatrices = true,
              field::FieldSource source = field::FieldSource::Curvature, double adaptiveScale = 0,
              double anisotropicScale = RemeshOptions{}.anisotropicScale) {
-    const field::TangentFrames frames(mesh);
     field::FieldSpec spec;
     spec.nSym = nSym;
     spec.source = source;
-    const field::FieldResult fr = field::buildField(frames, spec);
-    Remeshed out;
-    out.singularities = field::findSingularities(frames, fr.field);
-    Vec3 lo, hi;
-    mesh.bounds(lo, hi);
     RemeshOptions opt;
-    opt.edgeLength = relativeEdge * (hi - lo).norm();
     opt.separatrices = separatrices;
     opt.scaleStrength = adaptiveScale;
     opt.anisotropicScale = anisotropicScale;
-    out.result = remesh(frames, fr.field, out.singularities, opt);
-    out.quality = measureQuality(out.result.positions, out.result.polygons, frames, fr.field, out.singularities,
-                                 opt.edgeLength);
-    return out;
+    return helpers::remeshAndMeasure(mesh, spec, opt, relativeEdge);
 }
 
 void expectValidClosed(const QualityReport &q, int chi) {
     EXPECT_TRUE(q.closed) << q.boundaryEdges << " boundary edges";
-    EXPECT_TRUE(q.manifold) << q.nonManifoldEdges << " edges, " << q.nonManifoldVertices << " vertices";
-    EXPECT_TRUE(q.oriented) << q.inconsistentEdges;
-    EXPECT_EQ(q.eulerCharacteristic, chi);
-    EXPECT_EQ(q.degenerateFaces, 0);
-    EXPECT_EQ(q.flippedFaces, 0);
-    EXPECT_EQ(q.valence2Vertices, 0);
+    helpers::expectValid(q, chi);
 }
 
 TEST(Remesh, TorusBecomesAlignedQuads) {
