@@ -1375,6 +1375,28 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     // face is on the left). An edge with the same face on both sides (a bridge)
     // is removed and everything is done again.
     int dangling = 0, dissolved = 0, bridges = 0;
+    // A face traced along the input's boundary (the opening there, see below): it has
+    // boundary vertices and either only them and more sides than a face may have, or
+    // half of them and a centroid off the surface.
+    const int maxSides = field.nSym == 4 ? 6 : 5;
+    auto alongBoundary = [&](const std::vector<int> &f) {
+        int onBoundary = 0;
+        Vec3 c = Vec3::Zero();
+        for (int x : f) onBoundary += cBoundary[size_t(x)], c += cp[x];
+        if (onBoundary == 0) return false;
+        if (onBoundary == int(f.size()) && int(f.size()) > maxSides) return true;
+        c /= double(f.size());
+        return 2 * onBoundary >= int(f.size()) && (tree.closest(c).point - c).norm() > 0.5 * options.edgeLength;
+    };
+    // A feature corner on the input's boundary (a corner of an open square) has two
+    // lattice neighbours, one along each side: dissolving it would cut the corner by
+    // a diagonal. It stays, a vertex of one face and of the opening beside it; if
+    // neither of its two traced faces is an opening (a ragged boundary, where the
+    // lattice does not follow the sides) it is released and dissolved after all.
+    std::vector<char> released(features ? size_t(nC) : 0, 0);
+    auto keepCorner = [&](int v) {
+        return features && cKind[size_t(v)] == 2 && cBoundary[size_t(v)] && !released[size_t(v)];
+    };
     std::vector<std::vector<int>> ring(nC), faces;
     auto slotOf = [&](int v, int u) {
         return int(std::find(ring[v].begin(), ring[v].end(), u) - ring[v].begin());
@@ -1389,7 +1411,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                     graph[v].clear();
                     ++dangling;
                     changed = true;
-                } else if (graph[v].size() == 2) {
+                } else if (graph[v].size() == 2 && !keepCorner(v)) {
                     const int a = *graph[v].begin(), b = *graph[v].rbegin();
                     graph[a].erase(v);
                     graph[b].erase(v);
@@ -1438,7 +1460,22 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 const int u = ring[v][s];
                 if (v < u && faceOf[v][s] == faceOf[u][slotOf(u, v)]) bridge.emplace_back(v, u);
             }
-        if (bridge.empty()) break;
+        int releasedNow = 0;
+        for (int v = 0; v < nC; ++v)
+            if (ring[v].size() == 2 && keepCorner(v)) {
+                const int f0 = faceOf[v][0], f1 = faceOf[v][1];
+                auto simple = [&](int f) { // through no vertex twice
+                    std::vector<int> sorted = faces[size_t(f)];
+                    std::sort(sorted.begin(), sorted.end());
+                    return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+                };
+                if (f0 != f1 && simple(f0) && simple(f1) &&
+                    (alongBoundary(faces[size_t(f0)]) || alongBoundary(faces[size_t(f1)])))
+                    continue;
+                released[size_t(v)] = 1;
+                ++releasedNow;
+            }
+        if (bridge.empty() && releasedNow == 0) break;
         for (const auto &[v, u] : bridge) {
             graph[v].erase(u);
             graph[u].erase(v);
@@ -1449,7 +1486,6 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["valence2_dissolved"] = dissolved;
     result.repairs["bridges_removed"] = bridges;
 
-    const int maxSides = field.nSym == 4 ? 6 : 5;
     int holes = 0, dropped = 0, split = 0, openings = 0;
     // With features, a face traced along the input's boundary is the opening there,
     // not a face: left open. It has boundary vertices and either only them and more
@@ -1461,13 +1497,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         if (!features) return false;
         for (int x : f)
             if (onOpening[size_t(x)]) return false;
-        int onBoundary = 0;
-        Vec3 c = Vec3::Zero();
-        for (int x : f) onBoundary += cBoundary[size_t(x)], c += cp[x];
-        if (onBoundary == 0) return false;
-        if (onBoundary == int(f.size()) && int(f.size()) > maxSides) return true;
-        c /= double(f.size());
-        return 2 * onBoundary >= int(f.size()) && (tree.closest(c).point - c).norm() > 0.5 * options.edgeLength;
+        return alongBoundary(f);
     };
     std::vector<std::vector<int>> polygons;
     std::vector<Vec3> positions = cp;

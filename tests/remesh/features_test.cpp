@@ -16,6 +16,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 
 namespace rosy::remesh {
@@ -149,6 +150,112 @@ TEST(RemeshFeatures, CylinderBoundaryIsFollowed) {
     }
     const Remeshed off = run(tube, 0.04, 0);
     EXPECT_TRUE(off.quality.closed); // the behaviour features change
+}
+
+/// The faces of `mesh` whose centroid passes `keep`, with the vertices they use
+/// (renumbered in order): open patches cut from the procedural meshes.
+template <typename Keep>
+Mesh keepFaces(const Mesh &mesh, Keep &&keep) {
+    std::vector<int> id(size_t(mesh.nVertices()), -1);
+    std::vector<Vec3> positions;
+    std::vector<field::Face> faces;
+    for (const field::Face &f : mesh.faces()) {
+        if (!keep(Vec3((mesh.position(f[0]) + mesh.position(f[1]) + mesh.position(f[2])) / 3))) continue;
+        field::Face g;
+        for (int k = 0; k < 3; ++k) {
+            int &x = id[size_t(f[size_t(k)])];
+            if (x < 0) x = int(positions.size()), positions.push_back(mesh.position(f[size_t(k)]));
+            g[size_t(k)] = x;
+        }
+        faces.push_back(g);
+    }
+    return Mesh::fromTriangles(std::move(positions), std::move(faces), "patch");
+}
+
+/// The output's boundary edges (sides of one polygon only) as point pairs.
+std::vector<std::pair<Vec3, Vec3>> outputBoundary(const RemeshResult &r) {
+    std::set<std::pair<int, int>> directed;
+    for (const auto &poly : r.polygons)
+        for (size_t k = 0; k < poly.size(); ++k) directed.insert({poly[k], poly[(k + 1) % poly.size()]});
+    std::vector<std::pair<Vec3, Vec3>> out;
+    for (const auto &[a, b] : directed)
+        if (!directed.count({b, a})) out.emplace_back(r.positions[size_t(a)], r.positions[size_t(b)]);
+    return out;
+}
+
+/// The input's boundary edges as point pairs.
+std::vector<std::pair<Vec3, Vec3>> inputBoundary(const Mesh &mesh) {
+    std::vector<std::pair<Vec3, Vec3>> out;
+    for (int h = 0; h < mesh.nHalfedges(); ++h)
+        if (mesh.isBoundaryHalfedge(h)) out.emplace_back(mesh.position(mesh.tail(h)), mesh.position(mesh.head(h)));
+    return out;
+}
+
+/// The largest distance from a point of `from` (each segment at 17 points) to the
+/// nearest segment of `to`: a one-sided distance between two polylines.
+double oneSidedDistance(const std::vector<std::pair<Vec3, Vec3>> &from, const std::vector<std::pair<Vec3, Vec3>> &to) {
+    double worst = 0;
+    for (const auto &[a, b] : from)
+        for (int k = 0; k <= 16; ++k) {
+            const Vec3 x = a + (b - a) * (k / 16.0);
+            double d = std::numeric_limits<double>::infinity();
+            for (const auto &[c, e] : to) d = std::min(d, segmentDistance(x, c, e));
+            worst = std::max(worst, d);
+        }
+    return worst;
+}
+
+/// An open patch's boundary is followed: every corner in `corners` (the input's
+/// boundary corners, known from its construction) is an output vertex, and the
+/// output's boundary and the input's are within 1e-6 L of each other both ways (the
+/// boundary vertices lie on the input's boundary edges, which are straight here).
+void expectBoundaryFollowed(const Mesh &mesh, const Remeshed &r, const std::vector<Vec3> &corners) {
+    for (const Vec3 &corner : corners) {
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const Vec3 &p : r.result.positions) nearest = std::min(nearest, (p - corner).norm());
+        EXPECT_LT(nearest, 1e-9) << "boundary corner " << corner.transpose();
+    }
+    const auto in = inputBoundary(mesh), out = outputBoundary(r.result);
+    ASSERT_FALSE(out.empty());
+    EXPECT_LT(oneSidedDistance(out, in), 1e-6 * r.edgeLength) << "output boundary -> input boundary";
+    EXPECT_LT(oneSidedDistance(in, out), 1e-6 * r.edgeLength) << "input boundary -> output boundary";
+}
+
+// A flat square patch [-1, 1]²: its four corners are output vertices (each a lattice
+// point with two lattice neighbours, along the two sides), not cut off by a diagonal,
+// and the output's boundary is the square's.
+TEST(RemeshFeatures, SquarePatchKeepsItsCorners) {
+    const Mesh grid = field::makeGrid(16);
+    const Remeshed r = run(grid, 0.07, 50);
+    EXPECT_FALSE(r.quality.closed);
+    expectValid(r.quality, 1);
+    expectBoundaryFollowed(grid, r, {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}});
+}
+
+// An L-shaped patch (the square without its quadrant x, y > 0): five convex corners
+// and one reflex corner at the origin, all output vertices.
+TEST(RemeshFeatures, LShapedPatchKeepsItsCorners) {
+    const Mesh patch = keepFaces(field::makeGrid(16), [](const Vec3 &c) { return c.x() < 0 || c.y() < 0; });
+    const Remeshed r = run(patch, 0.07, 50);
+    EXPECT_FALSE(r.quality.closed);
+    expectValid(r.quality, 1);
+    expectBoundaryFollowed(patch, r,
+                           {{-1, -1, 0}, {1, -1, 0}, {1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}});
+}
+
+// An open box (the cube [-1, 1]³ without its top): the rim's four corners, where the
+// boundary turns by 90° and a crease runs down, and the bottom's four corners are
+// output vertices; the rim is followed; a disk, χ 1.
+TEST(RemeshFeatures, OpenBoxKeepsItsRimCorners) {
+    const Mesh box = keepFaces(field::makeCube(8), [](const Vec3 &c) { return c.z() < 1 - 1e-9; });
+    const Remeshed r = run(box, 0.07, 50);
+    EXPECT_FALSE(r.quality.closed);
+    expectValid(r.quality, 1);
+    std::vector<Vec3> corners;
+    for (int c = 0; c < 8; ++c) corners.emplace_back(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
+    expectBoundaryFollowed(box, r, corners);
+    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
+    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
 }
 
 // The feature steps keep the remesher's promise of the same bytes for any thread count.
