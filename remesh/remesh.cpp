@@ -1386,7 +1386,21 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         if (onBoundary == 0) return false;
         if (onBoundary == int(f.size()) && int(f.size()) > maxSides) return true;
         c /= double(f.size());
-        return 2 * onBoundary >= int(f.size()) && (tree.closest(c).point - c).norm() > 0.5 * options.edgeLength;
+        if (2 * onBoundary >= int(f.size()) && (tree.closest(c).point - c).norm() > 0.5 * options.edgeLength) return true;
+        // The face is on the left of its edges: for an opening, the left of its sides
+        // between two boundary vertices is off the surface (probe a third of L away).
+        int sides = 0, offSides = 0;
+        for (size_t k = 0; k < f.size(); ++k) {
+            const int a = f[k], b = f[(k + 1) % f.size()];
+            if (!cBoundary[size_t(a)] || !cBoundary[size_t(b)]) continue;
+            const Vec3 d = cp[b] - cp[a], nrm = cn[a] + cn[b];
+            const Vec3 left = nrm.cross(d);
+            if (!(left.norm() > 0)) continue;
+            const Vec3 probe = 0.5 * (cp[a] + cp[b]) + left.normalized() * (options.edgeLength / 3);
+            ++sides;
+            offSides += (tree.closest(probe).point - probe).norm() > options.edgeLength / 6;
+        }
+        return sides >= 2 && 2 * offSides > sides;
     };
     // A feature corner on the input's boundary (a corner of an open square) has two
     // lattice neighbours, one along each side: dissolving it would cut the corner by

@@ -270,5 +270,45 @@ TEST(RemeshFeatures, SameOutputForAnyThreadCount) {
     ASSERT_EQ(runs[0].result.positions, runs[1].result.positions);
 }
 
+
+/// An annulus around the z axis: inner radius r0, outer radius 1, nAround segments
+/// and nRings rings, lifted to z = bend x² (0: flat).
+Mesh makeAnnulus(double r0, int nAround, int nRings, double bend) {
+    std::vector<Vec3> positions;
+    std::vector<field::Face> faces;
+    for (int j = 0; j <= nRings; ++j)
+        for (int i = 0; i < nAround; ++i) {
+            const double r = r0 + (1 - r0) * j / nRings, t = 2 * M_PI * i / nAround;
+            positions.emplace_back(r * std::cos(t), r * std::sin(t), bend * std::pow(r * std::cos(t), 2));
+        }
+    auto id = [&](int i, int j) { return j * nAround + i % nAround; };
+    for (int j = 0; j < nRings; ++j)
+        for (int i = 0; i < nAround; ++i) {
+            faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return Mesh::fromTriangles(std::move(positions), std::move(faces), "annulus");
+}
+
+// An opening as wide as L (an annulus whose inner circle has diameter L, flat and
+// bent) stays open: χ 0 like the input, and output boundary vertices around the
+// inner circle. Its traced mouth has few sides and a centroid near the rim, so it
+// was filled before the sides' left-hand probe (χ 1).
+TEST(RemeshFeatures, OpeningAsWideAsTheEdgeStaysOpen) {
+    for (double bend : {0.0, 0.8})
+        for (double edge : {0.03, 0.05}) {
+            const double L = edge * 2 * std::sqrt(2.0); // L for the unit disk's bounding box
+            const Mesh ring = makeAnnulus(0.5 * L, 96, 24, bend);
+            field::Vec3 lo, hi;
+            ring.bounds(lo, hi);
+            const Remeshed r = run(ring, L / (hi - lo).norm(), 50);
+            SCOPED_TRACE("bend " + std::to_string(bend) + ", L " + std::to_string(L));
+            EXPECT_FALSE(r.quality.closed);
+            expectValid(r.quality, 0);
+            int inner = 0; // output boundary vertices within L of the axis
+            for (const auto &[a, b] : outputBoundary(r.result)) inner += std::hypot(a.x(), a.y()) < L;
+            EXPECT_GE(inner, 3);
+        }
+}
 } // namespace
 } // namespace rosy::remesh
