@@ -63,7 +63,10 @@ struct RemeshOptions {
     /// the boundary) constrain the position field — corners are lattice points,
     /// curve vertices keep theirs on the line along the curve — the output vertices
     /// there are put on the curves and corners (and move only along them when
-    /// smoothed), and the openings along the boundary are left open. The field
+    /// smoothed), the boundary's corners stay output vertices (unless the lattice
+    /// has no point along one side, as at a 45° corner of a square lattice), and
+    /// the openings along the boundary are left open (not one narrower than about
+    /// L on a ragged boundary, nor one touching another at a vertex). The field
     /// should be aligned to the same curves (FieldSpec::featureAngleDeg). 0: off.
     double featureAngleDeg = 0;
     /// The input is subdivided until its mean edge is at most L / 2; more vertices
