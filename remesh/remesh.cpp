@@ -138,6 +138,7 @@ struct Level {
     /// which vertices are feature corners (pinned at themselves) and which lie on
     /// the input's boundary.
     std::vector<std::array<int, 2>> featureEdges;
+    std::vector<char> featureEdgeOnBoundary; ///< per feature edge: a part of one of the input's boundary edges
     std::vector<char> corner, boundary;
     int size() const { return int(p.size()); }
 };
@@ -496,7 +497,10 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         std::vector<long long> keys;
         for (const auto &[key, isBoundary] : featureEdge) keys.push_back(key);
         std::sort(keys.begin(), keys.end()); // a fixed order (the map's is not)
-        for (long long key : keys) L.featureEdges.push_back({int(key >> 32), int(key & 0xffffffff)});
+        for (long long key : keys) {
+            L.featureEdges.push_back({int(key >> 32), int(key & 0xffffffff)});
+            L.featureEdgeOnBoundary.push_back(featureEdge.at(key));
+        }
     }
     // Pinning by distance, not by the singular face's corners: an input face larger
     // than L would otherwise put vertices more than L apart on one lattice point
@@ -1367,6 +1371,46 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         if (a == b) continue;
         graph[a].insert(b);
         graph[b].insert(a);
+    }
+    if (features) {
+        // A boundary corner sharper than the lattice (45° for squares) can have one
+        // lattice neighbour X that holds boundary vertices of both sides: it would be
+        // removed as a dangling edge and the corner cut off. X lies on one side; along
+        // the other, the first output vertex past X with two or more neighbours is
+        // joined to the corner, so that the boundary runs through it.
+        std::vector<std::vector<int>> along(static_cast<size_t>(nV));
+        for (size_t e = 0; e < F.featureEdges.size(); ++e)
+            if (F.featureEdgeOnBoundary[e]) {
+                const auto [a, b] = F.featureEdges[e];
+                along[size_t(a)].push_back(b);
+                along[size_t(b)].push_back(a);
+            }
+        int joined = 0;
+        for (int c = 0; c < nC; ++c) {
+            if (cKind[size_t(c)] != 2 || !cBoundary[size_t(c)] || graph[size_t(c)].size() != 1) continue;
+            const int x = *graph[size_t(c)].begin(), start = cCorner[size_t(c)];
+            if (along[size_t(start)].size() != 2) continue;
+            // X's distance to each side's line, and the walk along the farther side
+            double off[2];
+            for (int k = 0; k < 2; ++k) {
+                const Vec3 d = (F.p[along[size_t(start)][size_t(k)]] - F.p[start]).normalized();
+                const Vec3 r = cp[x] - F.p[start];
+                off[k] = (r - d * d.dot(r)).norm();
+            }
+            int prev = start, cur = along[size_t(start)][off[0] > off[1] ? 0 : 1];
+            while (cur != start && (cluster[cur] == c || cluster[cur] == x || graph[size_t(cluster[cur])].size() < 2)) {
+                const std::vector<int> &next = along[size_t(cur)];
+                if (next.size() != 2) break;
+                const int n = next[0] == prev ? next[1] : next[0];
+                prev = cur, cur = n;
+            }
+            const int y = cluster[cur];
+            if (cur == start || y == c || y == x || graph[size_t(y)].size() < 2) continue;
+            graph[size_t(c)].insert(y);
+            graph[size_t(y)].insert(c);
+            ++joined;
+        }
+        result.repairs["boundary_corners_joined"] = joined;
     }
     // Clean the graph: no dangling edges, no vertex of degree 2 (it would be a
     // valence-2 vertex between two faces): its two edges become one. Then sort

@@ -271,6 +271,36 @@ TEST(RemeshFeatures, SameOutputForAnyThreadCount) {
 }
 
 
+/// The triangle a, b, c cut into n² triangles (n along each side).
+Mesh makeTrianglePatch(const Vec3 &a, const Vec3 &b, const Vec3 &c, int n) {
+    std::vector<Vec3> positions;
+    std::vector<field::Face> faces;
+    auto id = [&](int i, int j) { return j * (n + 1) - j * (j - 1) / 2 + i; }; // row j holds n + 1 - j points
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i + j <= n; ++i) positions.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i + j < n; ++i) {
+            faces.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
+            if (i + j + 1 < n) faces.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return Mesh::fromTriangles(std::move(positions), std::move(faces), "triangle");
+}
+
+// A right isosceles triangle: its two 45° corners are sharper than the square
+// lattice, and at these two lengths the first lattice point along both sides of
+// each is the same one (it was then removed as a dangling edge and the corner cut
+// off, 2.6 L). All three corners are output vertices and the boundary is followed.
+TEST(RemeshFeatures, RightTriangleKeepsItsAcuteCorners) {
+    const Mesh tri = makeTrianglePatch({-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}, 24);
+    for (double edge : {0.03, 0.08}) {
+        SCOPED_TRACE("L " + std::to_string(edge) + " of the diagonal");
+        const Remeshed r = run(tri, edge, 50);
+        EXPECT_FALSE(r.quality.closed);
+        expectValid(r.quality, 1);
+        expectBoundaryFollowed(tri, r, {{-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}});
+    }
+}
+
 /// An annulus around the z axis: inner radius r0, outer radius 1, nAround segments
 /// and nRings rings, lifted to z = bend x² (0: flat).
 Mesh makeAnnulus(double r0, int nAround, int nRings, double bend) {
