@@ -63,8 +63,8 @@ struct RemeshOptions {
     /// the boundary) constrain the position field — corners are lattice points,
     /// curve vertices keep theirs on the line along the curve — the output vertices
     /// there are put on the curves and corners (and move only along them when
-    /// smoothed), the boundary's corners stay output vertices (unless the lattice
-    /// has no point along one side, as at a 45° corner of a square lattice), and
+    /// smoothed), the boundary's corners stay output vertices (on a ragged
+    /// boundary, only where the faces traced beside them are sound), and
     /// the openings along the boundary are left open (not one narrower than about
     /// L on a ragged boundary, nor one touching another at a vertex). The field
     /// should be aligned to the same curves (FieldSpec::featureAngleDeg). 0: off.
