@@ -1421,7 +1421,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     int dangling = 0, dissolved = 0, bridges = 0;
     // A face traced along the input's boundary (the opening there, see below): it has
     // boundary vertices and either only them and more sides than a face may have, or
-    // half of them and a centroid off the surface.
+    // half of them and a centroid off the surface, or more than half of its sides
+    // between two boundary vertices with the outside on their left (docs/remeshing.md,
+    // "Openings with few sides": the mouth of a hole about L wide has few sides and a
+    // centroid near its rim).
     const int maxSides = field.nSym == 4 ? 6 : 5;
     auto alongBoundary = [&](const std::vector<int> &f) {
         int onBoundary = 0;
@@ -1545,11 +1548,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["bridges_removed"] = bridges;
 
     int holes = 0, dropped = 0, split = 0, openings = 0;
-    // With features, a face traced along the input's boundary is the opening there,
-    // not a face: left open. It has boundary vertices and either only them and more
-    // sides than a face may have, or half of them and a centroid off the surface;
-    // and no vertex on an opening left open before (two openings through one vertex
-    // would make it non-manifold: the later one is filled as before).
+    // With features, a face traced along the input's boundary (alongBoundary) is the
+    // opening there, not a face: left open, if no vertex of it is on an opening left
+    // open before (two openings through one vertex would make it non-manifold: the
+    // later one is filled as before).
     std::vector<char> onOpening(features ? size_t(nC) : 0, 0);
     auto isOpening = [&](const std::vector<int> &f) {
         if (!features) return false;
