@@ -243,6 +243,7 @@ std::vector<double> anisotropicScale(const Level &L, const std::vector<std::arra
     meanEdge /= std::max<double>(1, 3.0 * double(tris.size()));
     const double membrane = 0.1 * meanEdge * meanEdge; // as scaleFunction's (0.01: bunny00 CV 0.116, elephant 0.126)
     const Lattice lat{4, 1};
+    trip.reserve(42 * tris.size() + 2 * size_t(nV)); // per triangle 2 x 9 rows, 3 x 2 x 4 membrane; the diagonal
     for (const auto &t : tris) {
         Vec3 q[3], w[3];
         int parity[3];
@@ -1362,7 +1363,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     const int nV = F.size();
     field::UnionFind uf(nV);
     std::vector<std::pair<int, int>> unitEdges;
-    for (int i = 0; i < nV; ++i)
+    // Each edge's lattice offset on its own (in parallel: 0 same point, 1 unit
+    // edge, 2 neither), then united and listed in edge order as before.
+    std::vector<char> edgeKind(F.adj.size(), 2);
+    parallelFor(0, nV, [&](int64_t iv) {
+        const int i = int(iv);
         for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
             const int j = F.adj[k];
             if (j <= i) continue;
@@ -1372,8 +1377,15 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 const auto [oi, oj] = compatPosition(li, lj, F.p[i], F.n[i], F.q[i], F.o[i], F.p[j], F.n[j], qj, F.o[j]);
                 return Eigen::Vector2i(lj.roundIndex(F.o[j] - oj, qj, F.n[j]) - li.roundIndex(F.o[i] - oi, F.q[i], F.n[i]));
             }();
-            if (d.x() == 0 && d.y() == 0) uf.unite(i, j);
-            else if (lat.isUnit(d)) unitEdges.emplace_back(i, j);
+            edgeKind[size_t(k)] = d.x() == 0 && d.y() == 0 ? 0 : lat.isUnit(d) ? 1 : 2;
+        }
+    }, 1024);
+    for (int i = 0; i < nV; ++i)
+        for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
+            const int j = F.adj[k];
+            if (j <= i) continue;
+            if (edgeKind[size_t(k)] == 0) uf.unite(i, j);
+            else if (edgeKind[size_t(k)] == 1) unitEdges.emplace_back(i, j);
         }
     // Output vertices: one per cluster, numbered by their smallest member.
     std::vector<int> cluster(nV, -1);
