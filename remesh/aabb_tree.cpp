@@ -15,9 +15,6 @@ AabbTree::AabbTree(std::vector<Vec3> points, std::vector<std::array<int, 3>> tri
         m_nodes.reserve(2 * m_tris.size());
         build(0, int(m_tris.size()));
     }
-    m_corners.resize(m_order.size());
-    for (size_t k = 0; k < m_order.size(); ++k)
-        for (int c = 0; c < 3; ++c) m_corners[k][size_t(c)] = m_points[size_t(m_tris[size_t(m_order[k])][size_t(c)])];
 }
 
 AabbTree::AabbTree(const field::Mesh &mesh)
@@ -59,7 +56,7 @@ int AabbTree::build(int begin, int end) {
 }
 
 namespace {
-inline double boxDistance2(const Vec3 &p, const Vec3 &lo, const Vec3 &hi) {
+double boxDistance2(const Vec3 &p, const Vec3 &lo, const Vec3 &hi) {
     const Vec3 d = (lo - p).cwiseMax(p - hi).cwiseMax(Vec3::Zero());
     return d.squaredNorm();
 }
@@ -76,21 +73,19 @@ ClosestPoint AabbTree::closest(const Vec3 &p, int hint) const {
         best.triangle = hint;
     }
     // Each stacked node with its box's distance, computed once when it was pushed.
-    struct Entry {
-        int node;
-        double distance2;
-    };
-    Entry stack[128];
+    int stack[128];
+    double stackDistance2[128];
     int top = 0;
-    stack[top++] = {0, boxDistance2(p, m_nodes[0].lo, m_nodes[0].hi)};
+    stackDistance2[top] = boxDistance2(p, m_nodes[0].lo, m_nodes[0].hi);
+    stack[top++] = 0;
     while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.distance2 >= best.distance2) continue;
-        const Node &node = m_nodes[size_t(e.node)];
+        --top;
+        if (stackDistance2[top] >= best.distance2) continue;
+        const Node &node = m_nodes[size_t(stack[top])];
         if (node.left < 0) {
             for (int k = node.begin; k < node.end; ++k) {
-                const auto &f = m_corners[size_t(k)];
-                const Vec3 q = closestPointOnTriangle(p, f[0], f[1], f[2]);
+                const auto &f = m_tris[m_order[k]];
+                const Vec3 q = closestPointOnTriangle(p, m_points[f[0]], m_points[f[1]], m_points[f[2]]);
                 const double d2 = (q - p).squaredNorm();
                 if (d2 < best.distance2 || (d2 == best.distance2 && m_order[k] < best.triangle)) {
                     best.distance2 = d2;
@@ -104,11 +99,11 @@ ClosestPoint AabbTree::closest(const Vec3 &p, int hint) const {
         const Node &l = m_nodes[node.left], &r = m_nodes[node.right];
         const double dl = boxDistance2(p, l.lo, l.hi), dr = boxDistance2(p, r.lo, r.hi);
         if (dl < dr) {
-            stack[top++] = {node.right, dr};
-            stack[top++] = {node.left, dl};
+            stackDistance2[top] = dr, stack[top++] = node.right;
+            stackDistance2[top] = dl, stack[top++] = node.left;
         } else {
-            stack[top++] = {node.left, dl};
-            stack[top++] = {node.right, dr};
+            stackDistance2[top] = dl, stack[top++] = node.left;
+            stackDistance2[top] = dr, stack[top++] = node.right;
         }
     }
     return best;

@@ -47,7 +47,6 @@ private:
     std::vector<Vec3> m_points;
     std::vector<std::array<int, 3>> m_tris;
     std::vector<int> m_order;
-    std::vector<std::array<Vec3, 3>> m_corners; ///< the triangles' corners in m_order's order (leaves read them in a row)
     std::vector<Node> m_nodes;
 };
 
