@@ -770,37 +770,42 @@ uint64_t mortonCode(const Vec3 &p, const Vec3 &lo, double scale) {
     return spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2;
 }
 
-/// `sweeps` Gauss–Seidel sweeps of the position field for N = 4, the same
-/// arithmetic as smoothPositions (Lattice's general path) with the rotations of
-/// q written out and n×q kept per vertex. The result depends only on `classes`
-/// (vertices of one colour are not neighbours, so the order within a colour does
-/// not matter); the data are stored, and each colour visited, in the Morton
-/// order of the positions, so that neighbours are mostly near in memory: on
-/// bunny00's largest levels (13 and 29 MB) the neighbour loads were most of the time.
-void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sweeps, std::vector<SweepNode> &nodes) {
+/// What sweepSquares needs of a level's topology, in the Morton order of its
+/// positions: made in the hierarchy stage, before the spacings are known.
+struct SweepPlan {
+    std::vector<std::pair<uint64_t, int>> order; ///< slot -> (Morton code, vertex)
+    std::vector<int> offset, adj;                ///< neighbour lists by slot, in the level's order
+    std::vector<char> lineOn;                    ///< feature lines by slot (empty without features)
+    std::vector<std::array<Vec3, 2>> line;
+    std::vector<std::vector<int>> slotClasses; ///< the colour classes' unpinned vertices by slot, sorted
+};
+
+SweepPlan planSweeps(const Level &L, const std::vector<std::vector<int>> &classes) {
+    SweepPlan plan;
     const int n = L.size();
-    if (sweeps <= 0 || n == 0) return;
+    if (n == 0) return plan;
     Vec3 lo = L.p[0], hi = L.p[0];
     for (const Vec3 &p : L.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     const double extent = (hi - lo).maxCoeff();
     const double scale = extent > 0 ? 1 / extent : 1.0;
-    std::vector<std::pair<uint64_t, int>> order(static_cast<size_t>(n));
+    std::vector<std::pair<uint64_t, int>> &order = plan.order;
+    order.resize(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) order[size_t(i)] = {mortonCode(L.p[i], lo, scale), i};
     std::sort(order.begin(), order.end());
     std::vector<int> slot(static_cast<size_t>(n));
     for (int k = 0; k < n; ++k) slot[size_t(order[size_t(k)].second)] = k;
-    nodes.resize(static_cast<size_t>(n));
-    std::vector<int> offset(size_t(n) + 1, 0), adj(L.adj.size());
+    std::vector<int> &offset = plan.offset, &adj = plan.adj;
+    offset.assign(size_t(n) + 1, 0);
+    adj.resize(L.adj.size());
     for (int k = 0; k < n; ++k) {
         const int i = order[size_t(k)].second;
-        nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.o[i], L.s[i], L.s2[i]};
         offset[size_t(k) + 1] = offset[size_t(k)] + (L.adjOffset[i + 1] - L.adjOffset[i]);
         for (int a = L.adjOffset[i], b = offset[size_t(k)]; a < L.adjOffset[i + 1]; ++a, ++b) // neighbour order kept
             adj[size_t(b)] = slot[size_t(L.adj[a])];
     }
     // Feature lines by slot (read only for the vertex being updated).
-    std::vector<char> lineOn;
-    std::vector<std::array<Vec3, 2>> line;
+    std::vector<char> &lineOn = plan.lineOn;
+    std::vector<std::array<Vec3, 2>> &line = plan.line;
     if (!L.onLine.empty()) {
         lineOn.assign(size_t(n), 0);
         line.resize(size_t(n));
@@ -810,13 +815,35 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
             line[size_t(k)] = {L.lineP[size_t(i)], L.lineD[size_t(i)]};
         }
     }
-    std::vector<std::vector<int>> slotClasses;
     for (const std::vector<int> &cls : classes) {
         std::vector<int> c;
         for (int i : cls)
             if (!L.pinned[i]) c.push_back(slot[size_t(i)]);
         std::sort(c.begin(), c.end());
-        slotClasses.push_back(std::move(c));
+        plan.slotClasses.push_back(std::move(c));
+    }
+    return plan;
+}
+
+/// `sweeps` Gauss–Seidel sweeps of the position field for N = 4, the same
+/// arithmetic as smoothPositions (Lattice's general path) with the rotations of
+/// q written out and n×q kept per vertex. The result depends only on the plan's colour classes
+/// (vertices of one colour are not neighbours, so the order within a colour does
+/// not matter); the data are stored, and each colour visited, in the Morton
+/// order of the positions, so that neighbours are mostly near in memory: on
+/// bunny00's largest levels (13 and 29 MB) the neighbour loads were most of the time.
+void sweepSquares(Level &L, const SweepPlan &plan, int sweeps, std::vector<SweepNode> &nodes) {
+    const int n = L.size();
+    if (sweeps <= 0 || n == 0) return;
+    const auto &order = plan.order;
+    const std::vector<int> &offset = plan.offset, &adj = plan.adj;
+    const std::vector<char> &lineOn = plan.lineOn;
+    const std::vector<std::array<Vec3, 2>> &line = plan.line;
+    const std::vector<std::vector<int>> &slotClasses = plan.slotClasses;
+    nodes.resize(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) {
+        const int i = order[size_t(k)].second;
+        nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.o[i], L.s[i], L.s2[i]};
     }
     // Two vertices of a colour are updated side by side, neighbour by neighbour:
     // each update is one long chain of dependent arithmetic (latency bound), and
@@ -1295,6 +1322,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     std::vector<double> phi, phiA;
     std::vector<Midpoint> midpoints;
     std::vector<std::vector<std::vector<int>>> classesOf; // colour classes per level
+    std::vector<SweepPlan> plans;                         // per level (N = 4)
     std::optional<AabbTree> surface;
     {
         tbb::task_group scaleSolve;
@@ -1319,7 +1347,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 }
                 levels.push_back(std::move(next));
             }
-            for (const Level &L : levels) classesOf.push_back(colourClasses(L));
+            for (const Level &L : levels) {
+                classesOf.push_back(colourClasses(L));
+                plans.push_back(lat.nSym == 4 ? planSweeps(L, classesOf.back()) : SweepPlan{});
+            }
             surface.emplace(mesh);
         } catch (...) {
             scaleSolve.wait(); // it reads this function's locals
@@ -1351,7 +1382,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         }
         const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
         const std::vector<std::vector<int>> &classes = classesOf[size_t(l)];
-        if (lat.nSym == 4) sweepSquares(L, classes, sweeps, nodeBuffer);
+        if (lat.nSym == 4) sweepSquares(L, plans[size_t(l)], sweeps, nodeBuffer);
         else
             for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat, classes);
     }
