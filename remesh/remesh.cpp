@@ -286,6 +286,7 @@ std::vector<double> anisotropicScale(const Level &L, const std::vector<std::arra
     for (int v = 0; v < 2 * nV; ++v) trip.emplace_back(v, v, 1e-8);
     Eigen::SparseMatrix<double> A(2 * nV, 2 * nV);
     A.setFromTriplets(trip.begin(), trip.end());
+    std::vector<Eigen::Triplet<double>>().swap(trip); // 42 per triangle: freed before the factorisation
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
     if (solver.info() != Eigen::Success) return std::vector<double>(2 * size_t(nV), 0.0);
     const Eigen::VectorXd x = solver.solve(rhs);
