@@ -897,6 +897,13 @@ void sweepSquares(Level &L, const SweepPlan &plan, int sweeps, std::vector<Sweep
     for (int it = 0; it < sweeps; ++it)
         for (const std::vector<int> &cls : slotClasses)
             parallelFor(0, int64_t(cls.size() + 1) / 2, [&](int64_t pair) {
+                // the next pair's first two neighbours each, on their way
+                for (size_t x = size_t(2 * pair + 2); x < std::min(cls.size(), size_t(2 * pair + 4)); ++x)
+                    for (int k = offset[size_t(cls[x])]; k < std::min(offset[size_t(cls[x]) + 1], offset[size_t(cls[x])] + 2); ++k) {
+                        const char *b = reinterpret_cast<const char *>(&nodes[size_t(adj[size_t(k)])]);
+                        __builtin_prefetch(b);
+                        __builtin_prefetch(b + 64);
+                    }
                 Update u = start(cls[size_t(2 * pair)]);
                 if (size_t(2 * pair + 1) == cls.size()) {
                     finish(u);
