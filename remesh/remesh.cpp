@@ -842,10 +842,10 @@ void sweepSquares(Level &L, const SweepPlan &plan, int sweeps, std::vector<Sweep
     const std::vector<std::array<Vec3, 2>> &line = plan.line;
     const std::vector<std::vector<int>> &slotClasses = plan.slotClasses;
     nodes.resize(static_cast<size_t>(n));
-    for (int k = 0; k < n; ++k) {
+    parallelFor(0, n, [&](int64_t k) {
         const int i = order[size_t(k)].second;
         nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.o[i], L.s[i], L.s2[i]};
-    }
+    }, 4096);
     // Two vertices of a colour are updated side by side, neighbour by neighbour:
     // each update is one long chain of dependent arithmetic (latency bound), and
     // the two chains are independent, so the processor overlaps them.
@@ -914,7 +914,7 @@ void sweepSquares(Level &L, const SweepPlan &plan, int sweeps, std::vector<Sweep
                 finish(u);
                 finish(v);
             }, 256);
-    for (int k = 0; k < n; ++k) L.o[size_t(order[size_t(k)].second)] = nodes[size_t(k)].o;
+    parallelFor(0, n, [&](int64_t k) { L.o[size_t(order[size_t(k)].second)] = nodes[size_t(k)].o; }, 4096);
 }
 
 /// N = 4: the integer offset of edge i -> j for the extraction, j's lattice point
@@ -1382,11 +1382,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         Level &L = levels[l];
         if (l + 1 < int(levels.size())) {
             const Level &C = levels[l + 1];
-            for (int i = 0; i < L.size(); ++i) {
-                if (L.pinned[i]) continue;
+            parallelFor(0, L.size(), [&](int64_t i) {
+                if (L.pinned[i]) return;
                 const Vec3 &oc = C.o[L.toCoarse[i]];
                 L.o[i] = oc - L.n[i] * L.n[i].dot(oc - L.p[i]);
-            }
+            }, 4096);
         }
         const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
         const std::vector<std::vector<int>> &classes = classesOf[size_t(l)];
