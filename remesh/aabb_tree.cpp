@@ -72,12 +72,16 @@ ClosestPoint AabbTree::closest(const Vec3 &p, int hint) const {
         best.distance2 = (best.point - p).squaredNorm();
         best.triangle = hint;
     }
+    // Each stacked node with its box's distance, computed once when it was pushed.
     int stack[128];
+    double stackDistance2[128];
     int top = 0;
+    stackDistance2[top] = boxDistance2(p, m_nodes[0].lo, m_nodes[0].hi);
     stack[top++] = 0;
     while (top > 0) {
-        const Node &node = m_nodes[stack[--top]];
-        if (boxDistance2(p, node.lo, node.hi) >= best.distance2) continue;
+        --top;
+        if (stackDistance2[top] >= best.distance2) continue;
+        const Node &node = m_nodes[size_t(stack[top])];
         if (node.left < 0) {
             for (int k = node.begin; k < node.end; ++k) {
                 const auto &f = m_tris[m_order[k]];
@@ -95,11 +99,11 @@ ClosestPoint AabbTree::closest(const Vec3 &p, int hint) const {
         const Node &l = m_nodes[node.left], &r = m_nodes[node.right];
         const double dl = boxDistance2(p, l.lo, l.hi), dr = boxDistance2(p, r.lo, r.hi);
         if (dl < dr) {
-            stack[top++] = node.right;
-            stack[top++] = node.left;
+            stackDistance2[top] = dr, stack[top++] = node.right;
+            stackDistance2[top] = dl, stack[top++] = node.left;
         } else {
-            stack[top++] = node.left;
-            stack[top++] = node.right;
+            stackDistance2[top] = dl, stack[top++] = node.left;
+            stackDistance2[top] = dr, stack[top++] = node.right;
         }
     }
     return best;

@@ -15,6 +15,7 @@
 #include <Eigen/SparseCholesky>
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
 #include <OpenMesh/Core/System/omstream.hh>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +24,7 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -129,6 +131,9 @@ struct Level {
     std::vector<double> s2; ///< lattice spacing along n×q (N = 4; the same as s for N = 6)
     std::vector<int> adjOffset, adj; ///< CSR neighbour lists, sorted
     std::vector<int> toCoarse;        ///< fine vertex -> vertex of the next level
+    /// Fine vertex: is its q turned by an odd rotation against its cluster's axes
+    /// (its first member's q)? Then its two spacings are swapped in the cluster's mean.
+    std::vector<char> oddToCoarse;
     std::vector<char> pinned;
     /// Feature lines (RemeshOptions::featureAngleDeg): a vertex with onLine keeps its
     /// lattice point on the line through lineP along lineD (empty without features).
@@ -239,6 +244,7 @@ std::vector<double> anisotropicScale(const Level &L, const std::vector<std::arra
     meanEdge /= std::max<double>(1, 3.0 * double(tris.size()));
     const double membrane = 0.1 * meanEdge * meanEdge; // as scaleFunction's (0.01: bunny00 CV 0.116, elephant 0.126)
     const Lattice lat{4, 1};
+    trip.reserve(42 * tris.size() + 2 * size_t(nV)); // per triangle 2 x 9 rows, 3 x 2 x 4 membrane; the diagonal
     for (const auto &t : tris) {
         Vec3 q[3], w[3];
         int parity[3];
@@ -281,6 +287,7 @@ std::vector<double> anisotropicScale(const Level &L, const std::vector<std::arra
     for (int v = 0; v < 2 * nV; ++v) trip.emplace_back(v, v, 1e-8);
     Eigen::SparseMatrix<double> A(2 * nV, 2 * nV);
     A.setFromTriplets(trip.begin(), trip.end());
+    std::vector<Eigen::Triplet<double>>().swap(trip); // 42 per triangle: freed before the factorisation
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
     if (solver.info() != Eigen::Success) return std::vector<double>(2 * size_t(nV), 0.0);
     const Eigen::VectorXd x = solver.solve(rhs);
@@ -322,9 +329,22 @@ constexpr double kMaxEdge = 0.5;
 /// Feature curves shorter than this many L are ignored by the remesher.
 constexpr double kMinFeatureLength = 2.0;
 
+/// A vertex made by subdivision: the midpoint of a and b; odd: b's q turned by an
+/// odd rotation against a's (N = 4), so b's two scale functions are swapped.
+struct Midpoint {
+    int a, b;
+    bool odd;
+};
+
+/// The finest level without its spacings (finestSpacings gives them). `atInput` is
+/// called with the input's vertices (p, n, q) and triangles before subdivision (the
+/// scale functions are solved there, while this goes on); `midpoints` lists the
+/// subdivision's vertices in the order they are made.
 Level finestLevel(const field::TangentFrames &frames, const field::RosyField &field, const Lattice &lat,
-                  const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices, double scaleStrength,
-                  double anisotropy, const field::FeatureCurves *curves, int &subdivisions) {
+                  const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices,
+                  const field::FeatureCurves *curves,
+                  const std::function<void(const Level &, const std::vector<std::array<int, 3>> &)> &atInput,
+                  std::vector<Midpoint> &midpoints, int &subdivisions) {
     const field::Mesh &mesh = frames.mesh();
     const int nV0 = mesh.nVertices();
     Level L;
@@ -366,9 +386,8 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         }
     }
     std::vector<std::array<int, 3>> tris(mesh.faces().begin(), mesh.faces().end());
-    std::vector<double> phi = scaleStrength > 0 ? scaleFunction(L, tris, lat) : std::vector<double>(nV0, 0.0);
-    const bool aniso = anisotropy > 0 && lat.nSym == 4;
-    std::vector<double> phiA = aniso ? anisotropicScale(L, tris) : std::vector<double>(2 * size_t(nV0), 0.0);
+    atInput(L, tris);
+    midpoints.clear();
     auto meanEdge = [&] {
         double sum = 0;
         for (const auto &t : tris)
@@ -422,10 +441,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
                 L.corner.push_back(0);
                 L.boundary.push_back(fe != featureEdge.end() ? fe->second : 0);
             }
-            phi.push_back(0.5 * (phi[a] + phi[b]));
-            const int pb = aniso ? compatIndex4(L.q[a], L.q[b], L.n[b]) & 1 : 0; // (q is near a's)
-            phiA.push_back(0.5 * (phiA[2 * size_t(a)] + phiA[2 * size_t(b) + size_t(pb)]));
-            phiA.push_back(0.5 * (phiA[2 * size_t(a) + 1] + phiA[2 * size_t(b) + size_t(1 - pb)]));
+            midpoints.push_back({a, b, lat.nSym == 4 && (compatIndex4(L.q[a], L.q[b], L.n[b]) & 1)}); // (q is near a's)
             mid.emplace(key, id);
             return id;
         };
@@ -463,25 +479,6 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         },
         L.adjOffset, L.adj);
     L.o = L.p;
-    {
-        // Spacings L e^{λφ + μφ_q} and L e^{λφ + μφ_{n×q}}, clamped to [L/2, 2L],
-        // scaled so that the number of lattice cells (Σ area / (s s2)) stays what L
-        // everywhere gives.
-        L.s.resize(nV);
-        L.s2.resize(nV);
-        double cells = 0, area = 0;
-        for (int v = 0; v < nV; ++v) {
-            L.s[v] = std::clamp(std::exp(scaleStrength * phi[v] + anisotropy * phiA[2 * size_t(v)]), 1e-3, 1e3);
-            L.s2[v] = aniso ? std::clamp(std::exp(scaleStrength * phi[v] + anisotropy * phiA[2 * size_t(v) + 1]), 1e-3, 1e3)
-                            : L.s[v];
-            cells += L.area[v] / (L.s[v] * L.s2[v]), area += L.area[v];
-        }
-        const double k = cells > 0 && area > 0 ? std::sqrt(cells / area) : 1.0;
-        for (int v = 0; v < nV; ++v) {
-            L.s[v] = lat.s * std::clamp(k * L.s[v], 0.5, 2.0);
-            L.s2[v] = lat.s * std::clamp(k * L.s2[v], 0.5, 2.0);
-        }
-    }
     L.pinned.assign(nV, 0);
     if (curves) {
         // Corners are pinned at themselves; curve vertices keep their lattice point on
@@ -530,7 +527,44 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
     return L;
 }
 
+/// The finest level's spacings L e^{λφ + μφ_q} and L e^{λφ + μφ_{n×q}} (RemeshOptions)
+/// from the scale functions of the input's vertices, `phi` (nV0 values) and `phiA`
+/// (2 nV0: φ_q, φ_{n×q} of vertex v at 2v, 2v + 1), carried to the subdivision's
+/// vertices (the mean of their edge's ends, in the order they were made).
+void finestSpacings(Level &L, std::vector<double> phi, std::vector<double> phiA, const std::vector<Midpoint> &midpoints,
+                    const Lattice &lat, double scaleStrength, double anisotropy) {
+    const bool aniso = anisotropy > 0 && lat.nSym == 4;
+    for (const Midpoint &m : midpoints) {
+        const size_t a = size_t(m.a), b = size_t(m.b), pb = aniso && m.odd ? 1 : 0;
+        phi.push_back(0.5 * (phi[a] + phi[b]));
+        phiA.push_back(0.5 * (phiA[2 * a] + phiA[2 * b + pb]));
+        phiA.push_back(0.5 * (phiA[2 * a + 1] + phiA[2 * b + 1 - pb]));
+    }
+    const int nV = L.size();
+    {
+        // Spacings L e^{λφ + μφ_q} and L e^{λφ + μφ_{n×q}}, clamped to [L/2, 2L],
+        // scaled so that the number of lattice cells (Σ area / (s s2)) stays what L
+        // everywhere gives.
+        L.s.resize(nV);
+        L.s2.resize(nV);
+        double cells = 0, area = 0;
+        for (int v = 0; v < nV; ++v) {
+            L.s[v] = std::clamp(std::exp(scaleStrength * phi[v] + anisotropy * phiA[2 * size_t(v)]), 1e-3, 1e3);
+            L.s2[v] = aniso ? std::clamp(std::exp(scaleStrength * phi[v] + anisotropy * phiA[2 * size_t(v) + 1]), 1e-3, 1e3)
+                            : L.s[v];
+            cells += L.area[v] / (L.s[v] * L.s2[v]), area += L.area[v];
+        }
+        const double k = cells > 0 && area > 0 ? std::sqrt(cells / area) : 1.0;
+        for (int v = 0; v < nV; ++v) {
+            L.s[v] = lat.s * std::clamp(k * L.s[v], 0.5, 2.0);
+            L.s2[v] = lat.s * std::clamp(k * L.s2[v], 0.5, 2.0);
+        }
+    }
+}
+
 /// Pairs neighbours (best aligned normals and similar areas first) into the next level.
+/// The coarse level's spacings are left to coarsenSpacings (they wait for the scale
+/// functions, its topology does not).
 Level coarsen(Level &fine) {
     const int n = fine.size();
     struct Cand {
@@ -564,6 +598,7 @@ Level coarsen(Level &fine) {
     for (int i = 0; i < n; ++i)
         if (rep[i] < 0) rep[i] = i; // isolated
     fine.toCoarse.assign(n, -1);
+    fine.oddToCoarse.assign(size_t(n), 0);
     Level coarse;
     std::vector<int> idOfRep(n, -1);
     std::vector<Vec3> sumP, sumN;
@@ -575,24 +610,17 @@ Level coarsen(Level &fine) {
             coarse.n.push_back(Vec3::Zero());
             coarse.q.push_back(fine.q[rep[i]]);
             coarse.area.push_back(0);
-            coarse.s.push_back(0);
-            coarse.s2.push_back(0);
         }
         fine.toCoarse[i] = id;
         coarse.p[id] += fine.p[i] * fine.area[i];
         coarse.n[id] += fine.n[i] * fine.area[i];
         coarse.area[id] += fine.area[i];
-        // the cluster's axes are its first member's: a member turned by an odd
-        // rotation against them has its spacings swapped
-        const bool swapped = fine.s[i] != fine.s2[i] && (compatIndex4(fine.q[rep[i]], fine.q[i], fine.n[i]) & 1);
-        coarse.s[id] += (swapped ? fine.s2[i] : fine.s[i]) * fine.area[i];
-        coarse.s2[id] += (swapped ? fine.s[i] : fine.s2[i]) * fine.area[i];
+        // the cluster's axes are its first member's
+        fine.oddToCoarse[i] = char(compatIndex4(fine.q[rep[i]], fine.q[i], fine.n[i]) & 1);
     }
     for (int c = 0; c < coarse.size(); ++c) {
         Vec3 &p = coarse.p[c], &nn = coarse.n[c], &q = coarse.q[c];
         p = coarse.area[c] > 0 ? Vec3(p / coarse.area[c]) : fine.p[c];
-        coarse.s[c] = coarse.area[c] > 0 ? coarse.s[c] / coarse.area[c] : fine.s[c];
-        coarse.s2[c] = coarse.area[c] > 0 ? coarse.s2[c] / coarse.area[c] : fine.s2[c];
         nn = nn.norm() > 1e-300 ? Vec3(nn.normalized()) : Vec3(0, 0, 1);
         q -= nn * nn.dot(q);
         q = q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(nn);
@@ -633,6 +661,24 @@ Level coarsen(Level &fine) {
         }
     }
     return coarse;
+}
+
+/// The spacings of `coarse` (made by coarsen(fine)): each cluster's area-weighted
+/// means of its members' (a member turned by an odd rotation against the cluster's
+/// axes has its two swapped).
+void coarsenSpacings(const Level &fine, Level &coarse) {
+    coarse.s.assign(size_t(coarse.size()), 0.0);
+    coarse.s2.assign(size_t(coarse.size()), 0.0);
+    for (int i = 0; i < fine.size(); ++i) {
+        const int id = fine.toCoarse[i];
+        const bool swapped = fine.s[i] != fine.s2[i] && fine.oddToCoarse[size_t(i)];
+        coarse.s[id] += (swapped ? fine.s2[i] : fine.s[i]) * fine.area[i];
+        coarse.s2[id] += (swapped ? fine.s[i] : fine.s2[i]) * fine.area[i];
+    }
+    for (int c = 0; c < coarse.size(); ++c) {
+        coarse.s[c] = coarse.area[c] > 0 ? coarse.s[c] / coarse.area[c] : fine.s[c];
+        coarse.s2[c] = coarse.area[c] > 0 ? coarse.s2[c] / coarse.area[c] : fine.s2[c];
+    }
 }
 
 /// Greedy colouring in vertex order (each vertex takes the smallest colour none of
@@ -729,37 +775,42 @@ uint64_t mortonCode(const Vec3 &p, const Vec3 &lo, double scale) {
     return spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2;
 }
 
-/// `sweeps` Gauss–Seidel sweeps of the position field for N = 4, the same
-/// arithmetic as smoothPositions (Lattice's general path) with the rotations of
-/// q written out and n×q kept per vertex. The result depends only on `classes`
-/// (vertices of one colour are not neighbours, so the order within a colour does
-/// not matter); the data are stored, and each colour visited, in the Morton
-/// order of the positions, so that neighbours are mostly near in memory: on
-/// bunny00's largest levels (13 and 29 MB) the neighbour loads were most of the time.
-void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sweeps, std::vector<SweepNode> &nodes) {
+/// What sweepSquares needs of a level's topology, in the Morton order of its
+/// positions: made in the hierarchy stage, before the spacings are known.
+struct SweepPlan {
+    std::vector<std::pair<uint64_t, int>> order; ///< slot -> (Morton code, vertex)
+    std::vector<int> offset, adj;                ///< neighbour lists by slot, in the level's order
+    std::vector<char> lineOn;                    ///< feature lines by slot (empty without features)
+    std::vector<std::array<Vec3, 2>> line;
+    std::vector<std::vector<int>> slotClasses; ///< the colour classes' unpinned vertices by slot, sorted
+};
+
+SweepPlan planSweeps(const Level &L, const std::vector<std::vector<int>> &classes) {
+    SweepPlan plan;
     const int n = L.size();
-    if (sweeps <= 0 || n == 0) return;
+    if (n == 0) return plan;
     Vec3 lo = L.p[0], hi = L.p[0];
     for (const Vec3 &p : L.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     const double extent = (hi - lo).maxCoeff();
     const double scale = extent > 0 ? 1 / extent : 1.0;
-    std::vector<std::pair<uint64_t, int>> order(static_cast<size_t>(n));
+    std::vector<std::pair<uint64_t, int>> &order = plan.order;
+    order.resize(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) order[size_t(i)] = {mortonCode(L.p[i], lo, scale), i};
     std::sort(order.begin(), order.end());
     std::vector<int> slot(static_cast<size_t>(n));
     for (int k = 0; k < n; ++k) slot[size_t(order[size_t(k)].second)] = k;
-    nodes.resize(static_cast<size_t>(n));
-    std::vector<int> offset(size_t(n) + 1, 0), adj(L.adj.size());
+    std::vector<int> &offset = plan.offset, &adj = plan.adj;
+    offset.assign(size_t(n) + 1, 0);
+    adj.resize(L.adj.size());
     for (int k = 0; k < n; ++k) {
         const int i = order[size_t(k)].second;
-        nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.o[i], L.s[i], L.s2[i]};
         offset[size_t(k) + 1] = offset[size_t(k)] + (L.adjOffset[i + 1] - L.adjOffset[i]);
         for (int a = L.adjOffset[i], b = offset[size_t(k)]; a < L.adjOffset[i + 1]; ++a, ++b) // neighbour order kept
             adj[size_t(b)] = slot[size_t(L.adj[a])];
     }
     // Feature lines by slot (read only for the vertex being updated).
-    std::vector<char> lineOn;
-    std::vector<std::array<Vec3, 2>> line;
+    std::vector<char> &lineOn = plan.lineOn;
+    std::vector<std::array<Vec3, 2>> &line = plan.line;
     if (!L.onLine.empty()) {
         lineOn.assign(size_t(n), 0);
         line.resize(size_t(n));
@@ -769,14 +820,36 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
             line[size_t(k)] = {L.lineP[size_t(i)], L.lineD[size_t(i)]};
         }
     }
-    std::vector<std::vector<int>> slotClasses;
     for (const std::vector<int> &cls : classes) {
         std::vector<int> c;
         for (int i : cls)
             if (!L.pinned[i]) c.push_back(slot[size_t(i)]);
         std::sort(c.begin(), c.end());
-        slotClasses.push_back(std::move(c));
+        plan.slotClasses.push_back(std::move(c));
     }
+    return plan;
+}
+
+/// `sweeps` Gauss–Seidel sweeps of the position field for N = 4, the same
+/// arithmetic as smoothPositions (Lattice's general path) with the rotations of
+/// q written out and n×q kept per vertex. The result depends only on the plan's colour classes
+/// (vertices of one colour are not neighbours, so the order within a colour does
+/// not matter); the data are stored, and each colour visited, in the Morton
+/// order of the positions, so that neighbours are mostly near in memory: on
+/// bunny00's largest levels (13 and 29 MB) the neighbour loads were most of the time.
+void sweepSquares(Level &L, const SweepPlan &plan, int sweeps, std::vector<SweepNode> &nodes) {
+    const int n = L.size();
+    if (sweeps <= 0 || n == 0) return;
+    const auto &order = plan.order;
+    const std::vector<int> &offset = plan.offset, &adj = plan.adj;
+    const std::vector<char> &lineOn = plan.lineOn;
+    const std::vector<std::array<Vec3, 2>> &line = plan.line;
+    const std::vector<std::vector<int>> &slotClasses = plan.slotClasses;
+    nodes.resize(static_cast<size_t>(n));
+    parallelFor(0, n, [&](int64_t k) {
+        const int i = order[size_t(k)].second;
+        nodes[size_t(k)] = {L.p[i], L.n[i], L.q[i], L.o[i], L.s[i], L.s2[i]};
+    }, 4096);
     // Two vertices of a colour are updated side by side, neighbour by neighbour:
     // each update is one long chain of dependent arithmetic (latency bound), and
     // the two chains are independent, so the processor overlaps them.
@@ -793,6 +866,11 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
     auto step = [&](Update &u) {
         const SweepNode &a = *u.a;
         const SweepNode &b = nodes[size_t(adj[size_t(u.k++)])];
+        if (u.k + 1 < u.end) { // the node after next: its two cache lines are on their way when it is read
+            const char *next = reinterpret_cast<const char *>(&nodes[size_t(adj[size_t(u.k + 1)])]);
+            __builtin_prefetch(next);
+            __builtin_prefetch(next + 64);
+        }
         const Vec3 &nrm = a.n, &q = a.q;
         // Lattice::compatOrientation: of b.q, b.w, −b.q, −b.w the first closest to q
         const Vec3 bw = b.n.cross(b.q);
@@ -823,6 +901,13 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
     for (int it = 0; it < sweeps; ++it)
         for (const std::vector<int> &cls : slotClasses)
             parallelFor(0, int64_t(cls.size() + 1) / 2, [&](int64_t pair) {
+                // the next pair's first two neighbours each, on their way
+                for (size_t x = size_t(2 * pair + 2); x < std::min(cls.size(), size_t(2 * pair + 4)); ++x)
+                    for (int k = offset[size_t(cls[x])]; k < std::min(offset[size_t(cls[x]) + 1], offset[size_t(cls[x])] + 2); ++k) {
+                        const char *b = reinterpret_cast<const char *>(&nodes[size_t(adj[size_t(k)])]);
+                        __builtin_prefetch(b);
+                        __builtin_prefetch(b + 64);
+                    }
                 Update u = start(cls[size_t(2 * pair)]);
                 if (size_t(2 * pair + 1) == cls.size()) {
                     finish(u);
@@ -833,7 +918,7 @@ void sweepSquares(Level &L, const std::vector<std::vector<int>> &classes, int sw
                 finish(u);
                 finish(v);
             }, 256);
-    for (int k = 0; k < n; ++k) L.o[size_t(order[size_t(k)].second)] = nodes[size_t(k)].o;
+    parallelFor(0, n, [&](int64_t k) { L.o[size_t(order[size_t(k)].second)] = nodes[size_t(k)].o; }, 4096);
 }
 
 /// N = 4: the integer offset of edge i -> j for the extraction, j's lattice point
@@ -1238,17 +1323,57 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         result.repairs["feature_boundary_edges"] = curves.boundaryEdges;
         result.repairs["feature_corners"] = int(std::count(curves.corner.begin(), curves.corner.end(), 1));
     }
-    levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices, options.scaleStrength,
-                                 options.anisotropicScale, curves.empty() ? nullptr : &curves, subdivisions));
-    result.repairs["input_subdivisions"] = subdivisions;
-    while (levels.back().size() > 64 && levels.size() < 40) {
-        Level next = coarsen(levels.back());
-        if (next.size() > 0.95 * levels.back().size()) {
-            levels.back().toCoarse.clear();
-            break;
+    // The scale functions are solved on the input's vertices (a sparse Cholesky
+    // factorisation: one thread) while this thread subdivides, coarsens, colours and
+    // builds the closest-point tree, none of which reads them: the subdivision's
+    // vertices take the mean of their edge's ends afterwards, and the spacings are
+    // set level by level once the functions are known. The same arithmetic in the
+    // same order as one after the other, so the same bytes for any thread count.
+    Level input; // the input's p, n, q, copied: the subdivision grows the finest level's arrays
+    std::vector<std::array<int, 3>> inputTris;
+    std::vector<double> phi, phiA;
+    std::vector<Midpoint> midpoints;
+    std::vector<std::vector<std::vector<int>>> classesOf; // colour classes per level
+    std::vector<SweepPlan> plans;                         // per level (N = 4)
+    std::optional<AabbTree> surface;
+    {
+        tbb::task_group scaleSolve;
+        auto startScaleSolve = [&](const Level &in, const std::vector<std::array<int, 3>> &tris) {
+            input.p = in.p, input.n = in.n, input.q = in.q;
+            inputTris = tris;
+            scaleSolve.run([&] {
+                const size_t nV0 = input.p.size();
+                phi = options.scaleStrength > 0 ? scaleFunction(input, inputTris, lat) : std::vector<double>(nV0, 0.0);
+                phiA = options.anisotropicScale > 0 && lat.nSym == 4 ? anisotropicScale(input, inputTris)
+                                                                     : std::vector<double>(2 * nV0, 0.0);
+            });
+        };
+        try {
+            levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices,
+                                         curves.empty() ? nullptr : &curves, startScaleSolve, midpoints, subdivisions));
+            while (levels.back().size() > 64 && levels.size() < 40) {
+                Level next = coarsen(levels.back());
+                if (next.size() > 0.95 * levels.back().size()) {
+                    levels.back().toCoarse.clear();
+                    break;
+                }
+                levels.push_back(std::move(next));
+            }
+            for (const Level &L : levels) {
+                classesOf.push_back(colourClasses(L));
+                plans.push_back(lat.nSym == 4 ? planSweeps(L, classesOf.back()) : SweepPlan{});
+            }
+            surface.emplace(mesh);
+        } catch (...) {
+            scaleSolve.wait(); // it reads this function's locals
+            throw;
         }
-        levels.push_back(std::move(next));
+        scaleSolve.wait();
     }
+    result.repairs["input_subdivisions"] = subdivisions;
+    finestSpacings(levels[0], std::move(phi), std::move(phiA), midpoints, lat, options.scaleStrength,
+                   options.anisotropicScale);
+    for (size_t l = 0; l + 1 < levels.size(); ++l) coarsenSpacings(levels[l], levels[l + 1]);
     result.timingsMs["hierarchy"] = msSince(t0);
 
     // --- position field, coarse to fine
@@ -1261,15 +1386,15 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         Level &L = levels[l];
         if (l + 1 < int(levels.size())) {
             const Level &C = levels[l + 1];
-            for (int i = 0; i < L.size(); ++i) {
-                if (L.pinned[i]) continue;
+            parallelFor(0, L.size(), [&](int64_t i) {
+                if (L.pinned[i]) return;
                 const Vec3 &oc = C.o[L.toCoarse[i]];
                 L.o[i] = oc - L.n[i] * L.n[i].dot(oc - L.p[i]);
-            }
+            }, 4096);
         }
         const int sweeps = l == 0 ? options.finestSweeps : options.sweepsPerLevel;
-        const std::vector<std::vector<int>> classes = colourClasses(L);
-        if (lat.nSym == 4) sweepSquares(L, classes, sweeps, nodeBuffer);
+        const std::vector<std::vector<int>> &classes = classesOf[size_t(l)];
+        if (lat.nSym == 4) sweepSquares(L, plans[size_t(l)], sweeps, nodeBuffer);
         else
             for (int it = 0; it < sweeps; ++it) smoothPositions(L, lat, classes);
     }
@@ -1281,7 +1406,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     const int nV = F.size();
     field::UnionFind uf(nV);
     std::vector<std::pair<int, int>> unitEdges;
-    for (int i = 0; i < nV; ++i)
+    // Each edge's lattice offset on its own (in parallel: 0 same point, 1 unit
+    // edge, 2 neither), then united and listed in edge order as before.
+    std::vector<char> edgeKind(F.adj.size(), 2);
+    parallelFor(0, nV, [&](int64_t iv) {
+        const int i = int(iv);
         for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
             const int j = F.adj[k];
             if (j <= i) continue;
@@ -1291,8 +1420,15 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 const auto [oi, oj] = compatPosition(li, lj, F.p[i], F.n[i], F.q[i], F.o[i], F.p[j], F.n[j], qj, F.o[j]);
                 return Eigen::Vector2i(lj.roundIndex(F.o[j] - oj, qj, F.n[j]) - li.roundIndex(F.o[i] - oi, F.q[i], F.n[i]));
             }();
-            if (d.x() == 0 && d.y() == 0) uf.unite(i, j);
-            else if (lat.isUnit(d)) unitEdges.emplace_back(i, j);
+            edgeKind[size_t(k)] = d.x() == 0 && d.y() == 0 ? 0 : lat.isUnit(d) ? 1 : 2;
+        }
+    }, 1024);
+    for (int i = 0; i < nV; ++i)
+        for (int k = F.adjOffset[i]; k < F.adjOffset[i + 1]; ++k) {
+            const int j = F.adj[k];
+            if (j <= i) continue;
+            if (edgeKind[size_t(k)] == 0) uf.unite(i, j);
+            else if (edgeKind[size_t(k)] == 1) unitEdges.emplace_back(i, j);
         }
     // Output vertices: one per cluster, numbered by their smallest member.
     std::vector<int> cluster(nV, -1);
@@ -1313,7 +1449,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         ++count[c];
     }
     const int nC = int(cp.size());
-    const AabbTree tree(mesh);
+    const AabbTree &tree = *surface;
     parallelFor(0, nC, [&](int64_t c) { cp[c] = tree.closest(cp[c] / count[c]).point; });
     // Features: an output vertex holding a feature corner goes onto it; one holding
     // vertices of a feature line goes to the mean of their lattice points (on their
