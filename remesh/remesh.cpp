@@ -27,6 +27,7 @@
 #include <optional>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace rosy::remesh {
 namespace {
@@ -326,6 +327,8 @@ void buildAdjacency(int nV, ForEachPair &&forEachPair, std::vector<int> &offset,
 /// one, keep the singular point as their lattice point: it is then the lattice
 /// point nearest to each of them, so they become one output vertex there.
 constexpr double kMaxEdge = 0.5;
+/// No finest-level edge is longer than this many L (long edges are bisected).
+constexpr double kMaxLongEdge = 1.0;
 /// Feature curves shorter than this many L are ignored by the remesher.
 constexpr double kMinFeatureLength = 2.0;
 
@@ -344,7 +347,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
                   const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices,
                   const field::FeatureCurves *curves,
                   const std::function<void(const Level &, const std::vector<std::array<int, 3>> &)> &atInput,
-                  std::vector<Midpoint> &midpoints, int &subdivisions) {
+                  std::vector<Midpoint> &midpoints, int &subdivisions, int &longEdgesSplit) {
     const field::Mesh &mesh = frames.mesh();
     const int nV0 = mesh.nVertices();
     Level L;
@@ -404,6 +407,40 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
                          "the edge length is too short for this mesh: the remesher would need more than " +
                              std::to_string(maxVertices) + " vertices",
                          "give a longer --edge");
+    // Midpoints of edges (key: smaller vertex << 32 | larger) made in this round.
+    std::unordered_map<long long, int> mid;
+    auto midpoint = [&](int a, int b) {
+        const long long key = (long long)std::min(a, b) << 32 | (long long)std::max(a, b);
+        auto it = mid.find(key);
+        if (it != mid.end()) return it->second;
+        const int id = int(L.p.size());
+        const Vec3 n = (L.n[a] + L.n[b]).norm() > 1e-12 ? Vec3((L.n[a] + L.n[b]).normalized()) : L.n[a];
+        Vec3 q = L.q[a] + lat.compatOrientation(L.q[a], L.q[b], L.n[b]);
+        q -= n * n.dot(q);
+        L.p.push_back(0.5 * (L.p[a] + L.p[b]));
+        L.n.push_back(n);
+        L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
+        if (curves) {
+            const auto fe = featureEdge.find(key);
+            Vec3 t = Vec3::Zero();
+            if (fe != featureEdge.end()) {
+                t = L.p[b] - L.p[a];
+                t -= n * n.dot(t);
+                if (t.norm() > 1e-12) {
+                    t.normalize();
+                    L.q.back() = lat.compatOrientation(L.q.back(), t, n);
+                } else {
+                    t = Vec3::Zero();
+                }
+            }
+            tangent.push_back(t);
+            L.corner.push_back(0);
+            L.boundary.push_back(fe != featureEdge.end() ? fe->second : 0);
+        }
+        midpoints.push_back({a, b, lat.nSym == 4 && (compatIndex4(L.q[a], L.q[b], L.n[b]) & 1)}); // (q is near a's)
+        mid.emplace(key, id);
+        return id;
+    };
     while (meanEdge() > kMaxEdge * lat.s) {
         if (4 * (long long)(L.p.size()) > 4 * maxVertices)
             throw InputError(FileLoc{"--edge"},
@@ -411,40 +448,8 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
                                  std::to_string(maxVertices) + " vertices",
                              "give a longer --edge");
         ++subdivisions;
-        std::unordered_map<long long, int> mid;
+        mid.clear();
         mid.reserve(3 * tris.size());
-        auto midpoint = [&](int a, int b) {
-            const long long key = (long long)std::min(a, b) << 32 | (long long)std::max(a, b);
-            auto it = mid.find(key);
-            if (it != mid.end()) return it->second;
-            const int id = int(L.p.size());
-            const Vec3 n = (L.n[a] + L.n[b]).norm() > 1e-12 ? Vec3((L.n[a] + L.n[b]).normalized()) : L.n[a];
-            Vec3 q = L.q[a] + lat.compatOrientation(L.q[a], L.q[b], L.n[b]);
-            q -= n * n.dot(q);
-            L.p.push_back(0.5 * (L.p[a] + L.p[b]));
-            L.n.push_back(n);
-            L.q.push_back(q.norm() > 1e-12 ? Vec3(q.normalized()) : perpendicularUnit(n));
-            if (curves) {
-                const auto fe = featureEdge.find(key);
-                Vec3 t = Vec3::Zero();
-                if (fe != featureEdge.end()) {
-                    t = L.p[b] - L.p[a];
-                    t -= n * n.dot(t);
-                    if (t.norm() > 1e-12) {
-                        t.normalize();
-                        L.q.back() = lat.compatOrientation(L.q.back(), t, n);
-                    } else {
-                        t = Vec3::Zero();
-                    }
-                }
-                tangent.push_back(t);
-                L.corner.push_back(0);
-                L.boundary.push_back(fe != featureEdge.end() ? fe->second : 0);
-            }
-            midpoints.push_back({a, b, lat.nSym == 4 && (compatIndex4(L.q[a], L.q[b], L.n[b]) & 1)}); // (q is near a's)
-            mid.emplace(key, id);
-            return id;
-        };
         std::vector<std::array<int, 3>> next;
         next.reserve(4 * tris.size());
         for (const auto &t : tris) {
@@ -461,6 +466,88 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
                 const int a = int(key >> 32), b = int(key & 0xffffffff), m = mid.at(key);
                 halves.emplace(edgeKey(a, m), isBoundary);
                 halves.emplace(edgeKey(m, b), isBoundary);
+            }
+            featureEdge.swap(halves);
+        }
+    }
+    // The rounds above bound the mean edge; on a coarse or very uneven input some
+    // edges stay much longer (helmet's slivers: 3.5 L after four rounds, turbine's
+    // 4.6 L), jump over lattice points and leave holes in the output. Such edges are
+    // bisected, each triangle with a marked edge also at its longest edge (so new
+    // angles stay at least half the old ones) and split conformingly into 2, 3 or 4,
+    // until every edge is at most kMaxLongEdge L.
+    longEdgesSplit = 0;
+    const double maxLong2 = (kMaxLongEdge * lat.s) * (kMaxLongEdge * lat.s);
+    auto length2 = [&](int a, int b) { return (L.p[a] - L.p[b]).squaredNorm(); };
+    for (int round = 0;; ++round) {
+        std::unordered_set<long long> marked;
+        for (const auto &t : tris)
+            for (int k = 0; k < 3; ++k)
+                if (length2(t[k], t[(k + 1) % 3]) > maxLong2) marked.insert(edgeKey(t[k], t[(k + 1) % 3]));
+        if (marked.empty()) break;
+        if (round >= 40 || double(L.p.size() + marked.size()) > double(maxVertices))
+            throw InputError(FileLoc{"--edge"},
+                             "the edge length is too short for this mesh: the remesher would need more than " +
+                                 std::to_string(maxVertices) + " vertices",
+                             "give a longer --edge");
+        // The longest edge of each triangle (ties by key, so the choice is fixed).
+        auto longest = [&](const std::array<int, 3> &t) {
+            int best = 0;
+            for (int k = 1; k < 3; ++k) {
+                const double lk = length2(t[k], t[(k + 1) % 3]), lb = length2(t[best], t[(best + 1) % 3]);
+                if (lk > lb || (lk == lb && edgeKey(t[k], t[(k + 1) % 3]) > edgeKey(t[best], t[(best + 1) % 3])))
+                    best = k;
+            }
+            return best;
+        };
+        for (bool changed = true; changed;) { // closure: a triangle with a marked edge has its longest marked
+            changed = false;
+            for (const auto &t : tris) {
+                const int k = longest(t);
+                const long long key = edgeKey(t[k], t[(k + 1) % 3]);
+                if (marked.count(key)) continue;
+                for (int e = 0; e < 3; ++e)
+                    if (marked.count(edgeKey(t[e], t[(e + 1) % 3]))) {
+                        marked.insert(key);
+                        changed = true;
+                        break;
+                    }
+            }
+        }
+        // Midpoints in a fixed order (sorted keys), so vertex ids do not depend on hashing.
+        std::vector<long long> order(marked.begin(), marked.end());
+        std::sort(order.begin(), order.end());
+        mid.clear();
+        for (long long key : order) midpoint(int(key >> 32), int(key & 0xffffffff));
+        longEdgesSplit += int(order.size());
+        std::vector<std::array<int, 3>> next;
+        next.reserve(tris.size() + 3 * order.size());
+        for (const auto &t : tris) {
+            const int k = longest(t);
+            const int a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+            const auto m = mid.find(edgeKey(a, b));
+            if (m == mid.end()) {
+                next.push_back(t);
+                continue;
+            }
+            const auto m1 = mid.find(edgeKey(b, c)), m2 = mid.find(edgeKey(c, a));
+            if (m2 == mid.end()) next.push_back({a, m->second, c});
+            else next.push_back({a, m->second, m2->second}), next.push_back({m2->second, m->second, c});
+            if (m1 == mid.end()) next.push_back({m->second, b, c});
+            else next.push_back({m->second, b, m1->second}), next.push_back({m->second, m1->second, c});
+        }
+        tris.swap(next);
+        if (curves) { // a split feature edge becomes its two halves
+            std::unordered_map<long long, char> halves;
+            for (const auto &[key, isBoundary] : featureEdge) {
+                const auto m = mid.find(key);
+                if (m == mid.end()) {
+                    halves.emplace(key, isBoundary);
+                    continue;
+                }
+                const int a = int(key >> 32), b = int(key & 0xffffffff);
+                halves.emplace(edgeKey(a, m->second), isBoundary);
+                halves.emplace(edgeKey(m->second, b), isBoundary);
             }
             featureEdge.swap(halves);
         }
@@ -1261,7 +1348,8 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
 }
 
 /// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
-/// its neighbours, then back onto the input surface.
+/// its neighbours within its tangent plane (the normal part of that step removed, so
+/// that a tip or a ridge is not pulled inward), then back onto the input surface.
 void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const AabbTree &tree,
                    int rounds, std::map<std::string, int> &repairs,
                    const std::function<void(size_t, Vec3 &)> &constrain = {}) {
@@ -1276,13 +1364,24 @@ void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Ve
         list.erase(std::unique(list.begin(), list.end()), list.end());
     }
     for (int r = 0; r < rounds; ++r) {
+        // Vertex normals: the polygons' vector areas (Newell) summed at their corners.
+        std::vector<Vec3> normal(positions.size(), Vec3::Zero());
+        for (const auto &poly : polygons) {
+            Vec3 area = Vec3::Zero();
+            for (size_t k = 0; k < poly.size(); ++k)
+                area += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
+            for (int v : poly) normal[v] += area;
+        }
         std::vector<Vec3> next = positions;
         for (size_t v = 0; v < positions.size(); ++v) {
             if (nb[v].empty()) continue;
             Vec3 mean = Vec3::Zero();
             for (int u : nb[v]) mean += positions[u];
             mean /= double(nb[v].size());
-            next[v] = tree.closest(0.5 * (positions[v] + mean)).point;
+            Vec3 step = 0.5 * (mean - positions[v]);
+            const double nn = normal[v].norm();
+            if (nn > 0) step -= normal[v] * (normal[v].dot(step) / (nn * nn));
+            next[v] = tree.closest(positions[v] + step).point;
             if (constrain) constrain(v, next[v]);
         }
         positions.swap(next);
@@ -1313,7 +1412,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     if (options.separatrices)
         for (const field::Singularity &sg : singularities.singularities)
             if (std::abs(sg.indexNumerator) == 1) pinFaces.emplace_back(sg.face, sg.position);
-    int subdivisions = 0;
+    int subdivisions = 0, longEdgesSplit = 0;
     field::FeatureCurves curves;
     if (options.featureAngleDeg > 0) {
         // creases shorter than 2 L are noise at this scale (elephant at 1 %: 448 corners
@@ -1350,7 +1449,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         };
         try {
             levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices,
-                                         curves.empty() ? nullptr : &curves, startScaleSolve, midpoints, subdivisions));
+                                         curves.empty() ? nullptr : &curves, startScaleSolve, midpoints, subdivisions,
+                                         longEdgesSplit));
             while (levels.back().size() > 64 && levels.size() < 40) {
                 Level next = coarsen(levels.back());
                 if (next.size() > 0.95 * levels.back().size()) {
@@ -1371,6 +1471,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         scaleSolve.wait();
     }
     result.repairs["input_subdivisions"] = subdivisions;
+    result.repairs["long_edges_split"] = longEdgesSplit;
     finestSpacings(levels[0], std::move(phi), std::move(phiA), midpoints, lat, options.scaleStrength,
                    options.anisotropicScale);
     for (size_t l = 0; l + 1 < levels.size(); ++l) coarsenSpacings(levels[l], levels[l + 1]);

@@ -69,7 +69,8 @@ struct RemeshOptions {
     /// L on a ragged boundary, nor one touching another at a vertex). The field
     /// should be aligned to the same curves (FieldSpec::featureAngleDeg). 0: off.
     double featureAngleDeg = 0;
-    /// The input is subdivided until its mean edge is at most L / 2; more vertices
+    /// The input is subdivided until its mean edge is at most L / 2, then edges
+    /// longer than L are bisected (repairs["long_edges_split"]); more vertices
     /// than this are refused (InputError: the edge length is too short).
     long long maxVertices = 20'000'000;
 };
