@@ -1389,6 +1389,122 @@ void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Ve
     repairs["relaxation_rounds"] = rounds;
 }
 
+/// Input vertices farther than this many L from the output surface are protrusions.
+constexpr double kSnapDistance = 0.25;
+/// A snapped vertex keeps its edges at most this many L long.
+constexpr double kSnapMaxEdge = 1.5;
+
+/// Output vertices snapped onto the input's protrusions. A tip or a thin ridge about
+/// L wide (an ear's tip, a tail) is cut off by the faces spanning it when no lattice
+/// point falls on it, however well the rest is placed. Each input vertex farther than
+/// kSnapDistance L from the output (farthest first, ties by index) pulls a corner of
+/// the output triangle nearest to it onto itself: the nearest corner that is free (not
+/// moved already, not `fixed`) and whose move turns none of its polygons over (Newell
+/// normals before and after agree in sign), keeps its edges at most kSnapMaxEdge L and
+/// leaves none of the input vertices whose nearest triangle it is a corner of farther
+/// from its polygons than they were from the output (or than the reach); input vertices the moves have already brought within reach (checked
+/// against the polygons around the nearest triangle's corners) are passed over. The
+/// output stays on the input surface: vertices move onto input vertices.
+void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                       const field::Mesh &input, double L, const std::function<bool(size_t)> &fixed,
+                       std::map<std::string, int> &repairs) {
+    std::vector<std::array<int, 3>> tris;
+    for (const auto &poly : polygons)
+        for (size_t k = 1; k + 1 < poly.size(); ++k) tris.push_back({poly[0], poly[k], poly[k + 1]});
+    int snapped = 0;
+    if (tris.empty()) {
+        repairs["protrusion_vertices_snapped"] = snapped;
+        return;
+    }
+    const AabbTree out(positions, tris);
+    const int nIn = input.nVertices();
+    std::vector<double> dist(size_t(nIn), 0.0);
+    std::vector<int> nearTri(size_t(nIn), -1);
+    const double reach = kSnapDistance * L;
+    parallelFor(0, nIn, [&](int64_t i) {
+        const ClosestPoint c = out.closest(input.position(int(i)));
+        dist[size_t(i)] = std::sqrt(c.distance2);
+        nearTri[size_t(i)] = c.triangle;
+    }, 256);
+    std::vector<int> far;
+    for (int i = 0; i < nIn; ++i)
+        if (dist[size_t(i)] > reach && nearTri[size_t(i)] >= 0) far.push_back(i);
+    std::sort(far.begin(), far.end(), [&](int a, int b) {
+        return dist[size_t(a)] != dist[size_t(b)] ? dist[size_t(a)] > dist[size_t(b)] : a < b;
+    });
+    std::vector<std::vector<int>> around(positions.size()); // polygons at each vertex
+    for (size_t f = 0; f < polygons.size(); ++f)
+        for (int v : polygons[f]) around[size_t(v)].push_back(int(f));
+    auto newell = [&](const std::vector<int> &poly) {
+        Vec3 a = Vec3::Zero();
+        for (size_t k = 0; k < poly.size(); ++k) a += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
+        return a;
+    };
+    auto distanceToPolygonsAt = [&](const Vec3 &x, int v) {
+        double best = std::numeric_limits<double>::infinity();
+        for (int f : around[size_t(v)]) {
+            const auto &poly = polygons[size_t(f)];
+            for (size_t k = 1; k + 1 < poly.size(); ++k)
+                best = std::min(best, (x - closestPointOnTriangle(x, positions[poly[0]], positions[poly[k]],
+                                                                 positions[poly[k + 1]]))
+                                          .norm());
+        }
+        return best;
+    };
+    // The input vertices whose nearest output triangle has corner v: a move of v must
+    // not leave any of them farther than it was (or than the reach).
+    std::vector<std::vector<int>> near(positions.size());
+    for (int i = 0; i < nIn; ++i)
+        if (nearTri[size_t(i)] >= 0)
+            for (int c : tris[size_t(nearTri[size_t(i)])]) near[size_t(c)].push_back(i);
+    std::vector<char> moved(positions.size(), 0);
+    for (int i : far) {
+        const Vec3 x = input.position(i);
+        const std::array<int, 3> &t = tris[size_t(nearTri[size_t(i)])];
+        bool reached = false;
+        for (int c : t)
+            if (moved[size_t(c)] && distanceToPolygonsAt(x, c) <= reach) reached = true;
+        if (reached) continue;
+        // The triangle's corners nearest first; the first that can move does.
+        std::array<int, 3> corners = t;
+        std::sort(corners.begin(), corners.end(), [&](int a, int b) {
+            const double da = (positions[a] - x).squaredNorm(), db = (positions[b] - x).squaredNorm();
+            return da != db ? da < db : a < b;
+        });
+        int w = -1;
+        for (int c : corners) {
+            if (moved[size_t(c)] || (fixed && fixed(size_t(c)))) continue;
+            const Vec3 old = positions[c];
+            std::vector<Vec3> before;
+            for (int f : around[size_t(c)]) before.push_back(newell(polygons[size_t(f)]));
+            positions[c] = x;
+            bool ok = true;
+            for (size_t k = 0; ok && k < around[size_t(c)].size(); ++k) {
+                const auto &poly = polygons[size_t(around[size_t(c)][k])];
+                if (newell(poly).dot(before[k]) <= 0) ok = false;
+                for (size_t j = 0; ok && j < poly.size(); ++j)
+                    if (poly[j] == c && ((positions[poly[(j + 1) % poly.size()]] - x).norm() > kSnapMaxEdge * L ||
+                                         (positions[poly[(j + poly.size() - 1) % poly.size()]] - x).norm() >
+                                             kSnapMaxEdge * L))
+                        ok = false;
+            }
+            for (size_t k = 0; ok && k < near[size_t(c)].size(); ++k) {
+                const int j = near[size_t(c)][k];
+                if (distanceToPolygonsAt(input.position(j), c) > std::max(dist[size_t(j)], reach)) ok = false;
+            }
+            if (ok) {
+                w = c;
+                break;
+            }
+            positions[c] = old;
+        }
+        if (w < 0) continue;
+        moved[size_t(w)] = 1;
+        ++snapped;
+    }
+    repairs["protrusion_vertices_snapped"] = snapped;
+}
+
 } // namespace
 
 RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
@@ -1856,6 +1972,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
             x = cKind[v] == 2 ? F.p[cCorner[v]] : ontoSegments(x, cSegments[v]);
         };
     relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs, constrain);
+    snapToProtrusions(polygons, positions, mesh, options.edgeLength,
+                      [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; }, result.repairs);
     if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
