@@ -1393,16 +1393,19 @@ void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Ve
 constexpr double kSnapDistance = 0.25;
 /// A snapped vertex keeps its edges at most this many L long.
 constexpr double kSnapMaxEdge = 1.5;
+/// ... and turns none of its polygons by more than this angle's cosine (60°).
+constexpr double kSnapMinCos = 0.5;
 
 /// Output vertices snapped onto the input's protrusions. A tip or a thin ridge about
 /// L wide (an ear's tip, a tail) is cut off by the faces spanning it when no lattice
 /// point falls on it, however well the rest is placed. Each input vertex farther than
 /// kSnapDistance L from the output (farthest first, ties by index) pulls a corner of
 /// the output triangle nearest to it onto itself: the nearest corner that is free (not
-/// moved already, not `fixed`) and whose move turns none of its polygons over (Newell
-/// normals before and after agree in sign), keeps its edges at most kSnapMaxEdge L and
+/// moved already, not `fixed`) and whose move turns none of its polygons by more than
+/// 60° (Newell normals before and after), keeps its edges at most kSnapMaxEdge L and
 /// leaves none of the input vertices whose nearest triangle it is a corner of farther
-/// from its polygons than they were from the output (or than the reach); input vertices the moves have already brought within reach (checked
+/// from its polygons than they were from the output (or than the reach); input
+/// vertices the moves have already brought within reach (checked
 /// against the polygons around the nearest triangle's corners) are passed over. The
 /// output stays on the input surface: vertices move onto input vertices.
 void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
@@ -1481,7 +1484,8 @@ void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vecto
             bool ok = true;
             for (size_t k = 0; ok && k < around[size_t(c)].size(); ++k) {
                 const auto &poly = polygons[size_t(around[size_t(c)][k])];
-                if (newell(poly).dot(before[k]) <= 0) ok = false;
+                const Vec3 after = newell(poly);
+                if (after.dot(before[k]) <= kSnapMinCos * after.norm() * before[k].norm()) ok = false;
                 for (size_t j = 0; ok && j < poly.size(); ++j)
                     if (poly[j] == c && ((positions[poly[(j + 1) % poly.size()]] - x).norm() > kSnapMaxEdge * L ||
                                          (positions[poly[(j + poly.size() - 1) % poly.size()]] - x).norm() >
