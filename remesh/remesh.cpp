@@ -441,6 +441,20 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
         mid.emplace(key, id);
         return id;
     };
+    // After a round, each feature edge split in it (in `mid`) becomes its two halves.
+    auto halveFeatureEdges = [&] {
+        std::unordered_map<long long, char> halves;
+        for (const auto &[key, isBoundary] : featureEdge) {
+            const auto m = mid.find(key);
+            if (m == mid.end()) {
+                halves.emplace(key, isBoundary);
+                continue;
+            }
+            halves.emplace(edgeKey(int(key >> 32), m->second), isBoundary);
+            halves.emplace(edgeKey(m->second, int(key & 0xffffffff)), isBoundary);
+        }
+        featureEdge.swap(halves);
+    };
     while (meanEdge() > kMaxEdge * lat.s) {
         if (4 * (long long)(L.p.size()) > 4 * maxVertices)
             throw InputError(FileLoc{"--edge"},
@@ -460,15 +474,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             next.push_back({m0, m1, m2});
         }
         tris.swap(next);
-        if (curves) { // each feature edge becomes its two halves
-            std::unordered_map<long long, char> halves;
-            for (const auto &[key, isBoundary] : featureEdge) {
-                const int a = int(key >> 32), b = int(key & 0xffffffff), m = mid.at(key);
-                halves.emplace(edgeKey(a, m), isBoundary);
-                halves.emplace(edgeKey(m, b), isBoundary);
-            }
-            featureEdge.swap(halves);
-        }
+        if (curves) halveFeatureEdges();
     }
     // The rounds above bound the mean edge; on a coarse or very uneven input some
     // edges stay much longer (helmet's slivers: 3.5 L after four rounds, turbine's
@@ -537,20 +543,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             else next.push_back({m->second, b, m1->second}), next.push_back({m->second, m1->second, c});
         }
         tris.swap(next);
-        if (curves) { // a split feature edge becomes its two halves
-            std::unordered_map<long long, char> halves;
-            for (const auto &[key, isBoundary] : featureEdge) {
-                const auto m = mid.find(key);
-                if (m == mid.end()) {
-                    halves.emplace(key, isBoundary);
-                    continue;
-                }
-                const int a = int(key >> 32), b = int(key & 0xffffffff);
-                halves.emplace(edgeKey(a, m->second), isBoundary);
-                halves.emplace(edgeKey(m->second, b), isBoundary);
-            }
-            featureEdge.swap(halves);
-        }
+        if (curves) halveFeatureEdges();
     }
     const int nV = int(L.p.size());
     L.area.assign(nV, 0.0);
@@ -1347,6 +1340,13 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
     repairs["dislocation_pairs_cancelled"] = cancelled;
 }
 
+/// Twice the vector area of a polygon (Newell): its normal times twice its area.
+Vec3 vectorArea(const std::vector<int> &poly, const std::vector<Vec3> &positions) {
+    Vec3 a = Vec3::Zero();
+    for (size_t k = 0; k < poly.size(); ++k) a += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
+    return a;
+}
+
 /// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
 /// its neighbours within its tangent plane (the normal part of that step removed, so
 /// that a tip or a ridge is not pulled inward), then back onto the input surface.
@@ -1367,9 +1367,7 @@ void relaxVertices(const std::vector<std::vector<int>> &polygons, std::vector<Ve
         // Vertex normals: the polygons' vector areas (Newell) summed at their corners.
         std::vector<Vec3> normal(positions.size(), Vec3::Zero());
         for (const auto &poly : polygons) {
-            Vec3 area = Vec3::Zero();
-            for (size_t k = 0; k < poly.size(); ++k)
-                area += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
+            const Vec3 area = vectorArea(poly, positions);
             for (int v : poly) normal[v] += area;
         }
         std::vector<Vec3> next = positions;
@@ -1438,11 +1436,6 @@ void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vecto
     std::vector<std::vector<int>> around(positions.size()); // polygons at each vertex
     for (size_t f = 0; f < polygons.size(); ++f)
         for (int v : polygons[f]) around[size_t(v)].push_back(int(f));
-    auto newell = [&](const std::vector<int> &poly) {
-        Vec3 a = Vec3::Zero();
-        for (size_t k = 0; k < poly.size(); ++k) a += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
-        return a;
-    };
     auto distanceToPolygonsAt = [&](const Vec3 &x, int v) {
         double best = std::numeric_limits<double>::infinity();
         for (int f : around[size_t(v)]) {
@@ -1479,12 +1472,12 @@ void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vecto
             if (moved[size_t(c)] || (fixed && fixed(size_t(c)))) continue;
             const Vec3 old = positions[c];
             std::vector<Vec3> before;
-            for (int f : around[size_t(c)]) before.push_back(newell(polygons[size_t(f)]));
+            for (int f : around[size_t(c)]) before.push_back(vectorArea(polygons[size_t(f)], positions));
             positions[c] = x;
             bool ok = true;
             for (size_t k = 0; ok && k < around[size_t(c)].size(); ++k) {
                 const auto &poly = polygons[size_t(around[size_t(c)][k])];
-                const Vec3 after = newell(poly);
+                const Vec3 after = vectorArea(poly, positions);
                 if (after.dot(before[k]) <= kSnapMinCos * after.norm() * before[k].norm()) ok = false;
                 for (size_t j = 0; ok && j < poly.size(); ++j)
                     if (poly[j] == c && ((positions[poly[(j + 1) % poly.size()]] - x).norm() > kSnapMaxEdge * L ||
