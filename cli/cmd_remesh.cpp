@@ -181,7 +181,8 @@ void runRemesh(const RemeshCliOptions &opt) {
         imageMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     }
     std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
-    for (const char *stage : {"hierarchy", "position", "extraction"}) ms.emplace_back(stage, result.timingsMs.at(stage));
+    for (const char *stage : {"hierarchy", "position", "extraction", "distance_repair"}) // the last is part of extraction
+        if (result.timingsMs.count(stage)) ms.emplace_back(stage, result.timingsMs.at(stage));
     ms.emplace_back("remesh", remeshMs);
     ms.emplace_back("quality", qualityMs);
     if (imageMs >= 0) ms.emplace_back("image", imageMs);

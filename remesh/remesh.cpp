@@ -1502,6 +1502,285 @@ void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vecto
     repairs["protrusion_vertices_snapped"] = snapped;
 }
 
+/// Points farther than this many L from the other surface get a vertex.
+constexpr double kFarDistance = 0.4;
+/// Rounds of the distance repair.
+constexpr int kFarRounds = 4;
+/// A fan triangle whose apex is closer than this many L to its base edge is not made.
+constexpr double kFanMinHeight = 0.1;
+
+/// Where the line through p along unit n meets the input surface nearest to p:
+/// marching out from p both ways in steps of L/20 up to 1.5 L, the closest input
+/// point of the first march point within L/20 of the input (else nothing).
+std::optional<Vec3> surfaceAlong(const AabbTree &inputTree, const Vec3 &p, const Vec3 &n, double L) {
+    for (int k = 0; k <= 30; ++k)
+        for (int sign : {-1, 1}) {
+            if (k == 0 && sign > 0) continue;
+            const ClosestPoint cp = inputTree.closest(p + n * (sign * k * L / 20));
+            if (cp.triangle >= 0 && cp.distance2 < L * L / 400) return cp.point;
+        }
+    return std::nullopt;
+}
+
+/// The report's test of a flipped face: its vector area against the normal of the
+/// input triangle nearest its centroid.
+bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const field::Mesh &input,
+                const AabbTree &inputTree) {
+    Vec3 c = Vec3::Zero();
+    for (int v : poly) c += positions[v];
+    const ClosestPoint cp = inputTree.closest(c / double(poly.size()));
+    return cp.triangle >= 0 && vectorArea(poly, positions).dot(input.faceNormal(cp.triangle)) > 0;
+}
+
+/// The farthest of a polygon's samples from the input (fanned from its first corner,
+/// each triangle sampled at steps of L/3, as the report samples).
+double farthestFromInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const AabbTree &inputTree,
+                         double L) {
+    double worst = 0;
+    int hint = -1;
+    for (size_t t = 1; t + 1 < poly.size(); ++t) {
+        const Vec3 &a = positions[poly[0]], &b = positions[poly[t]], &c = positions[poly[t + 1]];
+        const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+        const double steps = std::ceil(longest / (L / 3));
+        const int k = steps >= 1 ? int(std::min(steps, 64.0)) : 1; // NaN: 1
+        for (int i = 0; i <= k; ++i)
+            for (int j = 0; i + j <= k; ++j) {
+                const ClosestPoint cp = inputTree.closest(a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k), hint);
+                hint = cp.triangle;
+                worst = std::max(worst, cp.distance2);
+            }
+    }
+    return std::sqrt(worst);
+}
+
+/// The cut of polygon H by a diagonal from its corner i into two parts whose corners
+/// are nearest 90° (a triangle's 60°), each facing the input and none farther from
+/// it than `limit`; empty if there is none.
+std::vector<std::vector<int>> cutFrom(const std::vector<int> &H, int i, const std::vector<Vec3> &positions,
+                                      const field::Mesh &input, const AabbTree &inputTree, double L, double limit) {
+    const int n = int(H.size());
+    double bestCost = std::numeric_limits<double>::infinity();
+    std::vector<std::vector<int>> best;
+    for (int d = 2; d <= n - 2; ++d) {
+        std::vector<int> A, B;
+        for (int k = 0; k <= d; ++k) A.push_back(H[size_t((i + k) % n)]);
+        for (int k = d; k <= n; ++k) B.push_back(H[size_t((i + k) % n)]);
+        double cost = 0;
+        bool ok = true;
+        for (const auto *part : {&A, &B}) {
+            const auto &poly = *part;
+            ok = ok && facesInput(poly, positions, input, inputTree) &&
+                 farthestFromInput(poly, positions, inputTree, L) <= limit;
+            const size_t m = poly.size();
+            const double ideal = m == 3 ? 60 : 90;
+            for (size_t k = 0; k < m; ++k) {
+                const Vec3 u = positions[poly[(k + m - 1) % m]] - positions[poly[k]],
+                           v = positions[poly[(k + 1) % m]] - positions[poly[k]];
+                const double c = u.dot(v) / std::max(u.norm() * v.norm(), 1e-300);
+                cost = std::max(cost, std::abs(std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi - ideal));
+            }
+        }
+        if (ok && cost < bestCost) bestCost = cost, best = {A, B};
+    }
+    return best;
+}
+
+/// The two-sided distance held: after the snapping, what is still farther than
+/// kFarDistance L from the other surface gets a vertex of its own, in rounds:
+/// 1. **Edges over a groove.** An output edge whose midpoint is far from the input
+///    spans a groove or a crease the lattice stepped over; the point where the line
+///    through the midpoint along the edge's normal (its faces' vector areas) meets
+///    the input is put into the edge, farthest first, in both its faces, when neither
+///    then faces away from the input (the report's flipped test) and neither passes
+///    six sides. A quad split on two opposite sides is cut into two quads across the
+///    groove, so a row of quads over it gains a row of vertices along its bottom.
+/// 2. **Points inside a face.** An input vertex far from the output (a dimple, a tip
+///    the snap could not reach), or a far sample of an output triangle (step L/3, as
+///    the report samples; its point is where the line along the triangle's normal
+///    meets the input), goes into the output polygon nearest to it (for a sample: its
+///    own), which is replaced by the fan of triangles from the point to its sides —
+///    if no fan triangle faces away from the input and none is thinner than
+///    kFanMinHeight L. The farthest point of each polygon, farthest first, one per
+///    polygon and round.
+/// Both keep the mesh closed, manifold and oriented (the new faces cover the old).
+void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const field::Mesh &input,
+                  const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed,
+                  std::map<std::string, int> &repairs) {
+    const double reach = kFarDistance * L;
+    int edgesSplit = 0, fanned = 0, left = 0;
+    auto key = [](int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); };
+    for (int round = 0; round < kFarRounds; ++round) {
+        int made = 0;
+        // --- 1. edges over a groove
+        std::unordered_map<uint64_t, int> edgePoly; // directed edge -> polygon
+        std::vector<std::pair<int, int>> edges;     // undirected, a < b, first seen order
+        for (size_t f = 0; f < polygons.size(); ++f)
+            for (size_t k = 0; k < polygons[f].size(); ++k) {
+                const int a = polygons[f][k], b = polygons[f][(k + 1) % polygons[f].size()];
+                edgePoly[key(a, b)] = int(f);
+                if (a < b) edges.push_back({a, b});
+            }
+        std::vector<double> edgeDist(edges.size(), 0.0);
+        parallelFor(0, int64_t(edges.size()), [&](int64_t e) {
+            const auto [a, b] = edges[size_t(e)];
+            edgeDist[size_t(e)] = std::sqrt(inputTree.closest(0.5 * (positions[a] + positions[b])).distance2);
+        }, 256);
+        std::vector<int> farEdges;
+        for (size_t e = 0; e < edges.size(); ++e)
+            if (edgeDist[e] > reach && edgePoly.count(key(edges[e].second, edges[e].first)) &&
+                !(fixed && fixed(size_t(edges[e].first)) && fixed(size_t(edges[e].second))))
+                farEdges.push_back(int(e));
+        std::sort(farEdges.begin(), farEdges.end(), [&](int a, int b) {
+            return edgeDist[size_t(a)] != edgeDist[size_t(b)] ? edgeDist[size_t(a)] > edgeDist[size_t(b)] : a < b;
+        });
+        std::vector<char> touched(polygons.size(), 0);
+        auto at = [](const std::vector<int> &poly, int u, int v) {
+            for (size_t k = 0; k < poly.size(); ++k)
+                if (poly[k] == u && poly[(k + 1) % poly.size()] == v) return int(k);
+            return -1;
+        };
+        for (int e : farEdges) {
+            const auto [a, b] = edges[size_t(e)];
+            const int fab = edgePoly[key(a, b)], fba = edgePoly[key(b, a)];
+            if (fab == fba || touched[size_t(fab)] || touched[size_t(fba)]) continue;
+            const std::vector<int> &P = polygons[size_t(fab)], &Q = polygons[size_t(fba)];
+            const int kp = at(P, a, b), kq = at(Q, b, a);
+            if (kp < 0 || kq < 0) continue;
+            const Vec3 n = vectorArea(P, positions) + vectorArea(Q, positions);
+            if (!(n.squaredNorm() > 0)) continue;
+            const std::optional<Vec3> h = surfaceAlong(inputTree, 0.5 * (positions[a] + positions[b]), n.normalized(), L);
+            if (!h) continue;
+            // The new vertex x goes into both faces, each then cut by a diagonal from
+            // x (so x has four edges); the parts must come nearer the input.
+            const double before = std::max(farthestFromInput(P, positions, inputTree, L),
+                                           farthestFromInput(Q, positions, inputTree, L));
+            const double limit = std::max(reach, 0.9 * before);
+            const int x = int(positions.size());
+            positions.push_back(*h);
+            std::vector<int> P2 = P, Q2 = Q;
+            P2.insert(P2.begin() + kp + 1, x);
+            Q2.insert(Q2.begin() + kq + 1, x);
+            const auto cutP = cutFrom(P2, kp + 1, positions, input, inputTree, L, limit);
+            const auto cutQ = cutFrom(Q2, kq + 1, positions, input, inputTree, L, limit);
+            if (cutP.empty() || cutQ.empty()) {
+                positions.pop_back();
+                continue;
+            }
+            polygons[size_t(fab)] = cutP[0], polygons[size_t(fba)] = cutQ[0];
+            polygons.push_back(cutP[1]), polygons.push_back(cutQ[1]);
+            touched[size_t(fab)] = touched[size_t(fba)] = 1;
+            touched.push_back(1), touched.push_back(1);
+            ++edgesSplit, ++made;
+        }
+
+        // --- 2. points inside a face
+        std::vector<std::array<int, 3>> tris;
+        std::vector<int> polyOf;
+        for (size_t f = 0; f < polygons.size(); ++f)
+            for (size_t k = 1; k + 1 < polygons[f].size(); ++k) {
+                tris.push_back({polygons[f][0], polygons[f][k], polygons[f][k + 1]});
+                polyOf.push_back(int(f));
+            }
+        if (tris.empty()) break;
+        const AabbTree out(positions, tris);
+        const int nIn = input.nVertices();
+        std::vector<double> inDist(size_t(nIn), 0.0);
+        std::vector<int> inPoly(size_t(nIn), -1);
+        parallelForRange(0, nIn, [&](int64_t lo, int64_t hi) {
+            int hint = -1;
+            for (int64_t i = lo; i < hi; ++i) {
+                const ClosestPoint c = out.closest(input.position(int(i)), hint);
+                hint = c.triangle;
+                inDist[size_t(i)] = std::sqrt(c.distance2);
+                inPoly[size_t(i)] = c.triangle >= 0 ? polyOf[size_t(c.triangle)] : -1;
+            }
+        });
+        const double step = L / 3;
+        std::vector<double> outDist(tris.size(), 0.0);
+        std::vector<Vec3> outSample(tris.size(), Vec3::Zero()), outClosest(tris.size(), Vec3::Zero());
+        parallelFor(0, int64_t(tris.size()), [&](int64_t t) {
+            const Vec3 &a = positions[tris[size_t(t)][0]], &b = positions[tris[size_t(t)][1]],
+                       &c = positions[tris[size_t(t)][2]];
+            const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+            const int k = std::clamp(int(std::ceil(longest / step)), 1, 64);
+            int hint = -1;
+            for (int i = 0; i <= k; ++i)
+                for (int j = 0; i + j <= k; ++j) {
+                    const Vec3 p = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
+                    const ClosestPoint cp = inputTree.closest(p, hint);
+                    hint = cp.triangle;
+                    const double d = std::sqrt(cp.distance2);
+                    if (d > outDist[size_t(t)])
+                        outDist[size_t(t)] = d, outSample[size_t(t)] = p, outClosest[size_t(t)] = cp.point;
+                }
+        }, 16);
+        std::vector<double> worst(polygons.size(), 0.0);
+        std::vector<std::vector<Vec3>> target(polygons.size()); // points to try, in order
+        for (int i = 0; i < nIn; ++i) {
+            const int f = inPoly[size_t(i)];
+            if (f >= 0 && inDist[size_t(i)] > reach && inDist[size_t(i)] > worst[size_t(f)])
+                worst[size_t(f)] = inDist[size_t(i)], target[size_t(f)] = {input.position(i)};
+        }
+        for (size_t t = 0; t < tris.size(); ++t) {
+            const size_t f = size_t(polyOf[t]);
+            if (!(outDist[t] > reach) || !(outDist[t] > worst[f])) continue;
+            const Vec3 &a = positions[tris[t][0]], &b = positions[tris[t][1]], &c = positions[tris[t][2]];
+            const Vec3 nt = (b - a).cross(c - a);
+            if (!(nt.squaredNorm() > 0)) continue;
+            worst[f] = outDist[t];
+            target[f].clear();
+            if (const std::optional<Vec3> h = surfaceAlong(inputTree, outSample[t], nt.normalized(), L))
+                target[f].push_back(*h);
+            target[f].push_back(outClosest[t]); // a rim the normal's line runs past
+        }
+        std::vector<int> order;
+        for (size_t f = 0; f < polygons.size(); ++f)
+            if (worst[f] > 0) order.push_back(int(f));
+        std::sort(order.begin(), order.end(), [&](int a, int b) {
+            return worst[size_t(a)] != worst[size_t(b)] ? worst[size_t(a)] > worst[size_t(b)] : a < b;
+        });
+        left = 0;
+        for (int f : order) {
+            if (touched[size_t(f)]) {
+                ++left;
+                continue;
+            }
+            const std::vector<int> poly = polygons[size_t(f)];
+            const size_t n = poly.size();
+            const int xi = int(positions.size());
+            std::vector<std::vector<int>> fan;
+            bool ok = false;
+            const double limit = std::max(reach, 0.9 * farthestFromInput(poly, positions, inputTree, L));
+            for (const Vec3 &x : target[size_t(f)]) {
+                positions.push_back(x);
+                fan.clear();
+                ok = true;
+                for (size_t k = 0; ok && k < n; ++k) {
+                    const Vec3 &a = positions[poly[k]], &b = positions[poly[(k + 1) % n]];
+                    const double h = (b - a).cross(x - a).norm() / std::max((b - a).norm(), 1e-300);
+                    fan.push_back({xi, poly[k], poly[(k + 1) % n]});
+                    ok = h >= kFanMinHeight * L && facesInput(fan.back(), positions, input, inputTree) &&
+                         farthestFromInput(fan.back(), positions, inputTree, L) <= limit;
+                }
+                if (ok) break;
+                positions.pop_back();
+            }
+            if (!ok) {
+                ++left;
+                continue;
+            }
+            touched[size_t(f)] = 1;
+            polygons[size_t(f)] = fan[0];
+            for (size_t k = 1; k < fan.size(); ++k) polygons.push_back(fan[k]), touched.push_back(1);
+            ++fanned, ++made;
+        }
+        if (made == 0) break;
+    }
+    repairs["far_edges_split"] = edgesSplit;
+    repairs["far_points_fanned"] = fanned;
+    repairs["far_points_left"] = left;
+}
+
 } // namespace
 
 RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
@@ -1971,6 +2250,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs, constrain);
     snapToProtrusions(polygons, positions, mesh, options.edgeLength,
                       [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; }, result.repairs);
+    const auto th = Clock::now();
+    holdDistance(polygons, positions, mesh, tree, options.edgeLength,
+                 [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; }, result.repairs);
+    result.timingsMs["distance_repair"] = msSince(th);
     if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
