@@ -125,7 +125,7 @@ void runCompare(const CompareOptions &opt) {
     spec.separatrices = opt.separatrices;
 
     scenes::SceneDesc desc =
-        timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides); });
+        timings.time("parse", [&] { return scenes::parseSceneOrMesh(opt.scenePath, opt.overrides); });
     const scenes::ThreadLimit threadLimit(desc, threads);
     checkWritable(opt.outputPath);
     if (!opt.common.timingsPath.empty()) checkWritable(opt.common.timingsPath);
@@ -198,7 +198,7 @@ void addCompareCommand(CLI::App &app, Action &action) {
     CLI::App *sub = app.add_subcommand(
         "compare", "draw a scene along several fields side by side, each panel labeled with its field and "
                    "singularity count (P&Z 2007 Fig. 1)");
-    sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md)")->required();
+    sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md), or a mesh (.obj .ply .off .stl) with the default scene around it")->required();
     sub->add_option("-o,--output", opt->outputPath, "the side-by-side image (.png .exr .tif .tiff .jpg .jpeg)")
         ->required();
     sub->add_option("--symmetry", opt->symmetries,

@@ -80,7 +80,7 @@ void runRender(const RenderOptions &opt) {
     if (!opt.orientation.empty()) pageFlags.push_back({"--orientation", "style.page.orientation", opt.orientation});
     if (opt.penMm) pageFlags.push_back({"--pen-mm", "style.page.pen_width_mm", *opt.penMm});
     scenes::SceneDesc desc =
-        timings.time("parse", [&] { return scenes::parseSceneFile(opt.scenePath, opt.overrides, pageFlags); });
+        timings.time("parse", [&] { return scenes::parseSceneOrMesh(opt.scenePath, opt.overrides, pageFlags); });
     // --threads beats the scene's `threads`; 0 = all cores. Held over the writes too.
     const std::optional<int> threads = opt.threadsGiven ? std::optional<int>(opt.common.threads) : std::nullopt;
     const scenes::ThreadLimit threadLimit(desc, threads);
@@ -279,7 +279,7 @@ void runRender(const RenderOptions &opt) {
 void addRenderCommand(CLI::App &app, Action &action) {
     auto opt = std::make_shared<RenderOptions>();
     CLI::App *sub = app.add_subcommand("render", "render a scene as a pen-and-ink illustration (PNG/TIFF/JPEG, or EXR with channels)");
-    sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md)")->required();
+    sub->add_option("scene", opt->scenePath, "scene file (YAML, see scenes/README.md), or a mesh (.obj .ply .off .stl) with the default scene around it")->required();
     sub->add_option("-o,--output", opt->outputPaths,
                     "output image (.png .exr .tif .tiff .jpg .jpeg) or layered vector drawing (.svg); "
                     "repeatable, all from one render; overrides the scene's output list")

@@ -30,7 +30,8 @@ struct Fd {
 
 } // namespace
 
-std::string readInputFile(const std::string &path, const InputFileRules &rules) {
+/// stat() of `path` with checkInputPath()'s rules applied.
+static struct stat statInput(const std::string &path, const InputFileRules &rules) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) {
         const int err = errno;
@@ -43,6 +44,14 @@ std::string readInputFile(const std::string &path, const InputFileRules &rules) 
     if (!regular && !(stream && rules.streams))
         throw IoError(path, std::string("is ") + kindOf(st.st_mode) + ", not a regular file; the " + rules.what +
                                 " must be a file on disk");
+    return st;
+}
+
+void checkInputPath(const std::string &path, const InputFileRules &rules) { statInput(path, rules); }
+
+std::string readInputFile(const std::string &path, const InputFileRules &rules) {
+    const struct stat st = statInput(path, rules);
+    const bool regular = S_ISREG(st.st_mode);
     auto tooLarge = [&] {
         return InputError(FileLoc{path},
                           "the " + rules.what + " is larger than the limit of " + std::to_string(rules.maxBytes) +

@@ -21,6 +21,11 @@ struct InputFileRules {
     bool streams = false;
 };
 
+/// The checks readInputFile() makes before reading (links followed): that `path`
+/// exists and is a regular file, or a stream when rules.streams.
+/// \throws IoError: no such file, a folder, another kind of file than the rules allow.
+void checkInputPath(const std::string &path, const InputFileRules &rules);
+
 /// The whole content of `path` (links followed).
 /// \throws IoError: no such file, a folder, another kind of file than the rules
 ///   allow, unreadable; InputError: more than rules.maxBytes.

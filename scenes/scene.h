@@ -202,6 +202,16 @@ struct FlagOverride {
 SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides = {},
                          const std::vector<FlagOverride> &flags = {});
 
+/// True for the mesh files the loader reads (.obj .ply .off .stl, any case).
+bool isMeshPath(const std::string &path);
+
+/// parseSceneFile() for a scene; for a mesh file (isMeshPath), the scene
+/// `mesh: FILE` with every other key at its default (the automatic camera, the
+/// default light and style, output FILE's stem + .png), so that `rosyhatch render
+/// bunny.off` works and `--set` still applies.
+SceneDesc parseSceneOrMesh(const std::string &path, const std::vector<std::string> &overrides = {},
+                           const std::vector<FlagOverride> &flags = {});
+
 /// Same as parseSceneFile() for text already in memory; `path` names it in messages
 /// and relative mesh paths are resolved against its folder.
 SceneDesc parseScene(const std::string &text, const std::string &path,

@@ -1,12 +1,15 @@
 #include "scenes/scene.h"
 
+#include "core/input_file.h"
 #include "scenes/overrides.h"
 #include "scenes/style_block.h"
 #include "scenes/style_presets.h"
 #include "scenes/yaml_reader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -611,6 +614,32 @@ SceneDesc parseScene(const std::string &text, const std::string &path, const std
 SceneDesc parseSceneFile(const std::string &path, const std::vector<std::string> &overrides,
                          const std::vector<FlagOverride> &flags) {
     return parseScene(readText(path, "scene file"), path, overrides, flags);
+}
+
+bool isMeshPath(const std::string &path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
+}
+
+SceneDesc parseSceneOrMesh(const std::string &path, const std::vector<std::string> &overrides,
+                           const std::vector<FlagOverride> &flags) {
+    if (!isMeshPath(path)) return parseSceneFile(path, overrides, flags);
+    // A missing, folder or device input is an I/O error (exit 3), as for a scene file
+    // or `rosyhatch field MESH`; the mesh reader checks the rest when the scene is built.
+    checkInputPath(path, InputFileRules{"mesh file", 0, false});
+    // The file's name as a double-quoted YAML string (resolved against its own folder).
+    std::string quoted = "\"";
+    for (const char c : fs::path(path).filename().string()) {
+        if (c == '"' || c == '\\') quoted += '\\';
+        if (static_cast<unsigned char>(c) < 0x20) {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\x%02x", unsigned(static_cast<unsigned char>(c)));
+            quoted += hex;
+        } else quoted += c;
+    }
+    quoted += '"';
+    return parseScene("mesh: " + quoted + "\n", path, overrides, flags);
 }
 
 } // namespace rosy::scenes

@@ -45,11 +45,33 @@ public:
         return FileLoc{m_path, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0};
     }
 
+    /// A scalar quoted for a message: whole when short, else its first line cut at
+    /// kQuoteMax characters with its length (a mesh file given where a scene belongs is
+    /// one scalar of megabytes).
+    static std::string quoteScalar(const std::string &text) {
+        constexpr size_t kQuoteMax = 60;
+        const size_t eol = text.find('\n');
+        if (text.size() <= kQuoteMax && eol == std::string::npos) {
+            std::string quoted = "'";
+            quoted += text;
+            quoted += '\'';
+            return quoted;
+        }
+        size_t cut = std::min({text.size(), kQuoteMax, eol});
+        while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut; // not inside a UTF-8 character
+        std::string quoted = "'";
+        quoted.append(text, 0, cut);
+        quoted += "...' (";
+        quoted += std::to_string(text.size());
+        quoted += " characters)";
+        return quoted;
+    }
+
     static std::string kindOf(const YAML::Node &node) {
         switch (node.Type()) {
         case YAML::NodeType::Map: return "a map";
         case YAML::NodeType::Sequence: return "a list";
-        case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
+        case YAML::NodeType::Scalar: return quoteScalar(node.Scalar());
         default: return "nothing";
         }
     }

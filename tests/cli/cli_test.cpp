@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 
@@ -94,6 +95,48 @@ TEST(RenderCli, UnwritableOutputFolderExitsThreeBeforeRendering) {
 TEST(RenderCli, MissingSceneFileExitsThree) {
     CliRun r = run("render does-not-exist.yaml", "missing");
     EXPECT_EQ(r.exitCode, 3) << r.err;
+}
+
+// A bare mesh is a scene of its own: `mesh: FILE` with the defaults (automatic camera,
+// default light and style), the output named after it in the working folder, --set
+// still applying. Its name may hold YAML's own characters.
+TEST(RenderCli, BareMeshRendersWithTheDefaultScene) {
+    const fs::path mesh = workDir() / "te\"t: #1.off";
+    std::ofstream(mesh) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    fs::remove(workDir() / "te\"t: #1.png");
+    CliRun r = run("render 'te\"t: #1.off' --quiet --set 'camera.resolution=[40,32]'", "bare-mesh");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string png = slurp(workDir() / "te\"t: #1.png");
+    ASSERT_GT(png.size(), 24u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    // width and height from the IHDR chunk: the --set reached the scene
+    auto be32 = [&](size_t at) {
+        return (unsigned(uint8_t(png[at])) << 24) | (unsigned(uint8_t(png[at + 1])) << 16) |
+               (unsigned(uint8_t(png[at + 2])) << 8) | unsigned(uint8_t(png[at + 3]));
+    };
+    EXPECT_EQ(be32(16), 40u);
+    EXPECT_EQ(be32(20), 32u);
+    // A missing mesh is a missing input (exit 3), named, as a missing scene is.
+    CliRun missing = run("render no-such-mesh.off", "bare-mesh-missing");
+    EXPECT_EQ(missing.exitCode, 3) << missing.err;
+    EXPECT_NE(missing.err.find("no-such-mesh.off: error: no such file"), std::string::npos) << missing.err;
+    fs::create_directories(workDir() / "folder.obj");
+    CliRun folder = run("render folder.obj", "bare-mesh-folder");
+    EXPECT_EQ(folder.exitCode, 3) << folder.err;
+    EXPECT_NE(folder.err.find("folder.obj: error: is a folder, not a mesh file"), std::string::npos) << folder.err;
+}
+
+// A mesh (or any long text) given where a scene belongs: the message quotes the
+// start of it and its length, not the whole file.
+TEST(RenderCli, LongScalarSceneIsQuotedShort) {
+    std::string text = "OFF 4 4 0";
+    for (int i = 0; i < 2000; ++i) text += " 0.123456";
+    fs::path scene = writeScene("scalar.yaml", text + "\n");
+    CliRun r = run("render '" + scene.string() + "'", "scalar");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_EQ(r.err.rfind(scene.string() + ":1:1: error: the scene must be a map", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("(" + std::to_string(text.size()) + " characters)"), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), 400u) << r.err;
 }
 
 TEST(RenderCli, UnsupportedOutputExtensionExitsTwo) {
