@@ -1532,24 +1532,27 @@ bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions
     return cp.triangle >= 0 && vectorArea(poly, positions).dot(input.faceNormal(cp.triangle)) > 0;
 }
 
+/// Calls visit(p) for the samples of triangle (a, b, c) the report takes: a
+/// barycentric grid of k = ⌈longest side / (L/3)⌉ divisions (1 to 64), row by row.
+template <typename Visit> void forEachSample(const Vec3 &a, const Vec3 &b, const Vec3 &c, double L, Visit &&visit) {
+    const double steps = std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / (L / 3));
+    const int k = steps >= 1 ? int(std::min(steps, 64.0)) : 1; // NaN: 1
+    for (int i = 0; i <= k; ++i)
+        for (int j = 0; i + j <= k; ++j) visit(a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k));
+}
+
 /// The farthest of a polygon's samples from the input (fanned from its first corner,
-/// each triangle sampled at steps of L/3, as the report samples).
+/// each triangle sampled as the report samples).
 double farthestFromInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const AabbTree &inputTree,
                          double L) {
     double worst = 0;
     int hint = -1;
-    for (size_t t = 1; t + 1 < poly.size(); ++t) {
-        const Vec3 &a = positions[poly[0]], &b = positions[poly[t]], &c = positions[poly[t + 1]];
-        const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-        const double steps = std::ceil(longest / (L / 3));
-        const int k = steps >= 1 ? int(std::min(steps, 64.0)) : 1; // NaN: 1
-        for (int i = 0; i <= k; ++i)
-            for (int j = 0; i + j <= k; ++j) {
-                const ClosestPoint cp = inputTree.closest(a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k), hint);
-                hint = cp.triangle;
-                worst = std::max(worst, cp.distance2);
-            }
-    }
+    for (size_t t = 1; t + 1 < poly.size(); ++t)
+        forEachSample(positions[poly[0]], positions[poly[t]], positions[poly[t + 1]], L, [&](const Vec3 &p) {
+            const ClosestPoint cp = inputTree.closest(p, hint);
+            hint = cp.triangle;
+            worst = std::max(worst, cp.distance2);
+        });
     return std::sqrt(worst);
 }
 
@@ -1695,24 +1698,18 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                 inPoly[size_t(i)] = c.triangle >= 0 ? polyOf[size_t(c.triangle)] : -1;
             }
         });
-        const double step = L / 3;
         std::vector<double> outDist(tris.size(), 0.0);
         std::vector<Vec3> outSample(tris.size(), Vec3::Zero()), outClosest(tris.size(), Vec3::Zero());
         parallelFor(0, int64_t(tris.size()), [&](int64_t t) {
-            const Vec3 &a = positions[tris[size_t(t)][0]], &b = positions[tris[size_t(t)][1]],
-                       &c = positions[tris[size_t(t)][2]];
-            const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-            const int k = std::clamp(int(std::ceil(longest / step)), 1, 64);
+            const auto &tri = tris[size_t(t)];
             int hint = -1;
-            for (int i = 0; i <= k; ++i)
-                for (int j = 0; i + j <= k; ++j) {
-                    const Vec3 p = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
-                    const ClosestPoint cp = inputTree.closest(p, hint);
-                    hint = cp.triangle;
-                    const double d = std::sqrt(cp.distance2);
-                    if (d > outDist[size_t(t)])
-                        outDist[size_t(t)] = d, outSample[size_t(t)] = p, outClosest[size_t(t)] = cp.point;
-                }
+            forEachSample(positions[tri[0]], positions[tri[1]], positions[tri[2]], L, [&](const Vec3 &p) {
+                const ClosestPoint cp = inputTree.closest(p, hint);
+                hint = cp.triangle;
+                const double d = std::sqrt(cp.distance2);
+                if (d > outDist[size_t(t)])
+                    outDist[size_t(t)] = d, outSample[size_t(t)] = p, outClosest[size_t(t)] = cp.point;
+            });
         }, 16);
         std::vector<double> worst(polygons.size(), 0.0);
         std::vector<std::vector<Vec3>> target(polygons.size()); // points to try, in order
