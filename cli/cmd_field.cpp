@@ -216,10 +216,13 @@ void runField(const FieldOptions &opt) {
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, size_t(opt.common.threads));
     const bool isScene = hasExtension(opt.input, ".yaml") || hasExtension(opt.input, ".yml");
     std::optional<scenes::SceneDesc> scene;
-    if (!isScene && !opt.overrides.empty())
+    // A bare mesh with --set is the scene `mesh: FILE` (scenes::parseSceneOrMesh);
+    // without, the mesh alone as before.
+    const bool meshWithOverrides = !isScene && !opt.overrides.empty() && scenes::isMeshPath(opt.input);
+    if (!isScene && !meshWithOverrides && !opt.overrides.empty())
         throw InputError(FileLoc{"--set " + opt.overrides.front()}, "--set overrides keys of a scene file",
-                         "give a scene (.yaml) instead of a mesh, or use the field flags");
-    if (isScene) scene = scenes::parseSceneFile(opt.input, opt.overrides);
+                         "give a scene (.yaml) or a mesh (.obj .ply .off .stl), or use the field flags");
+    if (isScene || meshWithOverrides) scene = scenes::parseSceneOrMesh(opt.input, opt.overrides);
     const bool fromScene = scene && scene->field.given;
     // A scene's field block is the base; each flag given explicitly overrides its part.
     field::FieldSpec spec = fromScene ? scene->field.spec : field::FieldSpec{};

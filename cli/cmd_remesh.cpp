@@ -73,9 +73,12 @@ void runRemesh(const RemeshCliOptions &opt) {
     using Clock = std::chrono::steady_clock;
     const auto tStart = Clock::now();
     const bool isScene = hasExtension(opt.input, ".yaml") || hasExtension(opt.input, ".yml");
-    if (!isScene && !opt.overrides.empty())
+    // A bare mesh with --set is the scene `mesh: FILE` (scenes::parseSceneOrMesh);
+    // without, the mesh alone as before.
+    const bool meshWithOverrides = !isScene && !opt.overrides.empty() && scenes::isMeshPath(opt.input);
+    if (!isScene && !meshWithOverrides && !opt.overrides.empty())
         throw InputError(FileLoc{"--set " + opt.overrides.front()}, "--set overrides keys of a scene file",
-                         "give a scene (.yaml) instead of a mesh");
+                         "give a scene (.yaml) or a mesh (.obj .ply .off .stl)");
     if (!hasExtension(opt.output, ".obj") && !hasExtension(opt.output, ".off") && !hasExtension(opt.output, ".ply"))
         throw InputError(FileLoc{"-o"}, "cannot write a polygon mesh named '" + opt.output + "'",
                          "use .obj, .off or .ply (STL has triangles only)");
@@ -93,8 +96,8 @@ void runRemesh(const RemeshCliOptions &opt) {
                              ", or .svg for the edges as pen layers");
 
     scenes::SceneDesc desc;
-    if (isScene) {
-        desc = scenes::parseSceneFile(opt.input, opt.overrides);
+    if (isScene || meshWithOverrides) {
+        desc = scenes::parseSceneOrMesh(opt.input, opt.overrides);
     } else {
         desc.path = opt.input;
         desc.mesh.file = scenes::Located<std::string>{opt.input, FileLoc{opt.input}};

@@ -126,6 +126,31 @@ TEST(RenderCli, BareMeshRendersWithTheDefaultScene) {
     EXPECT_NE(folder.err.find("folder.obj: error: is a folder, not a mesh file"), std::string::npos) << folder.err;
 }
 
+// field and remesh take a bare mesh alone as before; with --set it becomes the scene
+// `mesh: FILE`, so the override applies (it was rejected before).
+TEST(FieldCli, BareMeshTakesSetOverrides) {
+    const std::string mesh = std::string(ROSY_DATA_DIR) + "/meshes/fandisk.off";
+    fs::remove(workDir() / "fandisk-n2.json");
+    CliRun r = run("field '" + mesh + "' --set field.symmetry=2 --json fandisk-n2.json --quiet", "field-bare-set");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string json = slurp(workDir() / "fandisk-n2.json");
+    EXPECT_NE(json.find("\"symmetry\": 2"), std::string::npos) << json.substr(0, 400);
+    EXPECT_NE(json.find("\"index_sum\": 2"), std::string::npos); // chi = 2 whatever N
+    // remesh: --set reaches the picture's camera
+    fs::remove(workDir() / "fandisk-q.png");
+    r = run("remesh '" + mesh + "' -o fandisk-q.obj --edge 4% --image fandisk-q.png --set 'camera.resolution=[40,32]' --quiet",
+            "remesh-bare-set");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string png = slurp(workDir() / "fandisk-q.png");
+    ASSERT_GT(png.size(), 24u);
+    EXPECT_EQ(uint8_t(png[19]), 40u); // IHDR width, low byte
+    EXPECT_EQ(uint8_t(png[23]), 32u); // IHDR height, low byte
+    // an unknown extension is neither: --set names the choice
+    r = run("field mesh.xyz --set field.symmetry=2", "field-bare-set-bad");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("--set overrides keys of a scene file"), std::string::npos) << r.err;
+}
+
 // A mesh (or any long text) given where a scene belongs: the message quotes the
 // start of it and its length, not the whole file.
 TEST(RenderCli, LongScalarSceneIsQuotedShort) {
