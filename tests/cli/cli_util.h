@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <sys/wait.h>
 
 namespace rosy::test {
@@ -32,6 +34,17 @@ inline void put(const std::filesystem::path &p, const std::string &text) {
 inline std::string slurp(const std::filesystem::path &p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Width and height of a PNG from its IHDR chunk (big-endian at bytes 16..23);
+/// {0, 0} when the bytes are too short to hold one.
+inline std::pair<unsigned, unsigned> pngSize(const std::string &png) {
+    if (png.size() < 24) return {0, 0};
+    auto be32 = [&](size_t at) {
+        return (unsigned(uint8_t(png[at])) << 24) | (unsigned(uint8_t(png[at + 1])) << 16) |
+               (unsigned(uint8_t(png[at + 2])) << 8) | unsigned(uint8_t(png[at + 3]));
+    };
+    return {be32(16), be32(20)};
 }
 
 /// Number of <path> elements in the SVG layer labelled `label` (inkscape:label),

@@ -137,13 +137,8 @@ TEST(RemeshCli, ImageOfTheRemeshedSurface) {
     const std::string png = slurp(dir / "c.png");
     ASSERT_GT(png.size(), 1000u);
     EXPECT_EQ(png.substr(1, 3), "PNG");
-    // PNG header: width and height big-endian at bytes 16..23, the scene camera's size.
-    auto be32 = [&](size_t o) {
-        return (unsigned(uint8_t(png[o])) << 24) | (unsigned(uint8_t(png[o + 1])) << 16) |
-               (unsigned(uint8_t(png[o + 2])) << 8) | unsigned(uint8_t(png[o + 3]));
-    };
-    EXPECT_EQ(be32(16), 320u);
-    EXPECT_EQ(be32(20), 240u);
+    // the scene camera's size
+    EXPECT_EQ(rosy::test::pngSize(png), std::make_pair(320u, 240u));
     EXPECT_NE(slurp(dir / "t.json").find("\"image\""), std::string::npos);
     const CliRun b = runRosyhatch(dir, "remesh c.yaml -o c.obj --edge 5% --image c.svg --quiet", "img2");
     ASSERT_EQ(b.exitCode, 0) << b.err;
