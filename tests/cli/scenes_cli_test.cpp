@@ -182,9 +182,11 @@ TEST(SetCli, BadOverridesExitTwoNamingTheOverride) {
     const CliRun form = run("render " + quoted(scene) + " --set novalue", "setbad-form");
     EXPECT_EQ(form.exitCode, 2);
     EXPECT_EQ(form.err.rfind("--set novalue: error: an override needs KEY=VALUE", 0), 0u) << form.err;
-    const CliRun mesh = run("field " + std::string(ROSY_DATA_DIR) + "/meshes/fandisk.off --set field.symmetry=2",
-                            "setbad-mesh");
+    // A bare mesh with --set is the scene `mesh: FILE` (FieldCli.BareMeshTakesSetOverrides);
+    // a file that is neither a scene nor a mesh cannot take one.
+    const CliRun mesh = run("field fandisk.txt --set field.symmetry=2", "setbad-mesh");
     EXPECT_EQ(mesh.exitCode, 2) << mesh.err;
+    EXPECT_EQ(mesh.err.rfind("--set field.symmetry=2: error: --set overrides keys of a scene file", 0), 0u) << mesh.err;
 }
 
 namespace {
