@@ -1180,6 +1180,9 @@ void quadrangulations(const std::vector<int> &poly, std::vector<std::vector<std:
         }
 }
 
+/// A directed edge a -> b as one key (the maps from an output edge to its face).
+inline uint64_t directedEdgeKey(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
+
 /// Dislocation pairs. The position field leaves dislocations, each a triangle
 /// with a valence-5 corner where the lattice gains a row; two of opposite sign a
 /// quad or two apart cancel. For each triangle, the triangles reachable through
@@ -1195,8 +1198,8 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
     constexpr double kMinCorner = 35.0 * std::numbers::pi / 180.0;
     constexpr int kMaxQuads = 3;
     const int nV = int(positions.size());
-    auto key = [](int a, int b) { return (long long)a << 32 | (long long)(unsigned)b; };
-    std::unordered_map<long long, int> faceOfEdge; // directed edge -> face
+    const auto key = directedEdgeKey;
+    std::unordered_map<uint64_t, int> faceOfEdge; // directed edge -> face
     std::vector<std::set<int>> nb(nV);
     std::vector<char> alive(polygons.size(), 1);
     auto link = [&](int f, bool add) {
@@ -1232,7 +1235,7 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
     auto unionLoop = [&](const std::vector<int> &faces) {
         std::map<int, int> next;
         std::set<int> corners;
-        std::set<long long> inside;
+        std::set<uint64_t> inside;
         for (int f : faces)
             for (size_t k = 0; k < polygons[f].size(); ++k)
                 inside.insert(key(polygons[f][k], polygons[f][(k + 1) % polygons[f].size()]));
@@ -1611,7 +1614,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                   std::map<std::string, int> &repairs) {
     const double reach = kFarDistance * L;
     int edgesSplit = 0, fanned = 0, left = 0;
-    auto key = [](int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); };
+    const auto key = directedEdgeKey;
     for (int round = 0; round < kFarRounds; ++round) {
         int made = 0;
         // --- 1. edges over a groove
