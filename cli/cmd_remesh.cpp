@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 
 #include "core/atomic_file.h"
+#include "core/diagnostics.h"
 #include "core/error.h"
 #include "core/json.h"
 #include "field/mesh/poly_mesh.h"
@@ -67,6 +68,52 @@ EdgeSpec parseEdge(const std::string &text) {
         throw InputError(FileLoc{"--edge"}, "'" + text + "' is out of range",
                          "a positive length, or a percentage of the diagonal in [0.1%, 50%]");
     return e;
+}
+
+/// The remesh does not keep the input's topology or misses a part of it
+/// (remesh::QualityReport::topologyLost, partsMissing): say what, where first, and
+/// what to try. The mesh is still written (exit 0).
+void warnThinParts(const std::string &output, const remesh::QualityReport &q) {
+    std::string what;
+    auto add = [&](const std::string &s) { what += (what.empty() ? "" : "; ") + s; };
+    char buf[160];
+    if (q.inputBoundaryEdges == 0 && !q.closed) {
+        std::snprintf(buf, sizeof buf, "open: %d boundary edges, the input has none", q.boundaryEdges);
+        add(buf);
+    }
+    if (q.eulerCharacteristic != q.inputEulerCharacteristic) {
+        std::snprintf(buf, sizeof buf, "chi %d, the input's %d", q.eulerCharacteristic, q.inputEulerCharacteristic);
+        add(buf);
+    }
+    if (!q.manifold) {
+        std::snprintf(buf, sizeof buf, "not manifold: %d edges, %d vertices", q.nonManifoldEdges,
+                      q.nonManifoldVertices);
+        add(buf);
+    }
+    if (!q.oriented) add(std::to_string(q.inconsistentEdges) + " edges not consistently oriented");
+    if (q.flippedFaces > 0) add(std::to_string(q.flippedFaces) + (q.flippedFaces == 1 ? " flipped face" : " flipped faces"));
+    const double L = q.edgeLength;
+    if (q.partsMissing()) {
+        std::snprintf(buf, sizeof buf, "a part of the input is missing: (%.4g, %.4g, %.4g) is %.1f L from the output",
+                      q.farthestInputPoint.x(), q.farthestInputPoint.y(), q.farthestInputPoint.z(),
+                      q.distanceInToOutPct * q.diagonal / 100 / L);
+        add(buf);
+    }
+    std::string where;
+    if (!q.problems.empty()) {
+        std::snprintf(buf, sizeof buf, ", first near (%.4g, %.4g, %.4g)", q.problems[0].x(), q.problems[0].y(),
+                      q.problems[0].z());
+        where = buf;
+    }
+    const double shorter = q.diagonal > 0 ? 50 * q.edgeLength / q.diagonal : 0;
+    std::snprintf(buf, sizeof buf, "%.2g%%", shorter);
+    warn(output, "remesh-thin-parts",
+         std::string(q.topologyLost() ? "the remesh does not keep the input's topology (" : "the remesh is not whole (") +
+             what + ")" + where +
+             ": the lattice cannot follow a part about as thin as the edge length or thinner (a tail, a finger, "
+             "a rim); an edge well below that part's width keeps it (half the length now: --edge " + buf +
+             "; docs/remeshing.md, \"When the topology is not kept\"). The report's topology.problems_at lists "
+             "such places");
 }
 
 void runRemesh(const RemeshCliOptions &opt) {
@@ -156,6 +203,14 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.maxVertices = opt.common.maxFaces;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
+    if (result.polygons.empty() && frames.mesh().nFaces() > 0) {
+        char length[64];
+        std::snprintf(length, sizeof length, "%.4g", edgeLength);
+        throw InputError(FileLoc{"--edge"},
+                         std::string("at edge length ") + length + " (" + opt.edge +
+                             ") the remesh has no face: the surface is thinner than the edge length everywhere",
+                         "use a shorter --edge (nothing was written)");
+    }
     const double remeshMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     t0 = Clock::now();
     const remesh::QualityReport quality = remesh::measureQuality(result.positions, result.polygons, frames, rosyField,
@@ -183,6 +238,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         else renderer::writeImage(renderer::rasterizeFieldDrawing(drawing), opt.imagePath);
         imageMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     }
+    if (quality.topologyLost() || quality.partsMissing()) warnThinParts(opt.output, quality);
     std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
     for (const char *stage : {"hierarchy", "position", "extraction", "distance_repair"}) // the last is part of extraction
         if (result.timingsMs.count(stage)) ms.emplace_back(stage, result.timingsMs.at(stage));

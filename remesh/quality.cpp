@@ -84,6 +84,8 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         if (total == 1) {
             q.boundaryEdges++;
             onBoundary[key.first] = onBoundary[key.second] = 1;
+            if (q.inputBoundaryEdges == 0 && int(q.problems.size()) < QualityReport::kMaxProblems)
+                q.problems.push_back(0.5 * (positions[key.first] + positions[key.second]));
         }
     }
     // Vertex fans: link each corner (prev, next) to the corner whose prev is its next.
@@ -121,7 +123,10 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             }
             bad = components != 1;
         }
-        if (bad) q.nonManifoldVertices++;
+        if (bad) {
+            q.nonManifoldVertices++;
+            if (int(q.problems.size()) < QualityReport::kMaxProblems) q.problems.push_back(positions[v]);
+        }
     }
     q.vertices = nP - q.isolatedVertices;
     q.eulerCharacteristic = q.vertices - q.edges + q.faces;
@@ -237,7 +242,15 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         const ClosestPoint cp = input.closest(c / double(poly.size()));
         flipped[size_t(f)] = cp.triangle >= 0 && newell.dot(mesh.faceNormal(cp.triangle)) < 0;
     });
-    for (char x : flipped) q.flippedFaces += x;
+    for (size_t f = 0; f < flipped.size(); ++f) {
+        if (!flipped[f]) continue;
+        q.flippedFaces++;
+        if (int(q.problems.size()) < QualityReport::kMaxProblems) {
+            Vec3 c = Vec3::Zero();
+            for (int x : polygons[f]) c += positions[x];
+            q.problems.push_back(c / double(polygons[f].size()));
+        }
+    }
     // Distances: every sample's in parallel (a sample's closest-point search starts
     // from the triangle found for the previous sample of the same triangle or
     // face), then max and sum in sample order as one sequential loop would.
@@ -289,8 +302,20 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             const Vec3 p = (mesh.position(fc[0]) + mesh.position(fc[1]) + mesh.position(fc[2])) / 3;
             faceDist[size_t(f)] = std::sqrt(output.closest(p, vertexTri[size_t(fc[0])]).distance2);
         });
-        for (double d : vertexDist) maxIn = std::max(maxIn, d), sumIn += d, ++nIn;
-        for (double d : faceDist) maxIn = std::max(maxIn, d), sumIn += d, ++nIn;
+        for (int v = 0; v < nV; ++v) {
+            const double d = vertexDist[size_t(v)];
+            if (d > maxIn) maxIn = d, q.farthestInputPoint = mesh.position(v);
+            sumIn += d, ++nIn;
+        }
+        for (int f = 0; f < nF; ++f) {
+            const double d = faceDist[size_t(f)];
+            if (d > maxIn) {
+                maxIn = d;
+                const auto &fc = mesh.face(f);
+                q.farthestInputPoint = (mesh.position(fc[0]) + mesh.position(fc[1]) + mesh.position(fc[2])) / 3;
+            }
+            sumIn += d, ++nIn;
+        }
     }
     const double pct = q.diagonal > 0 ? 100.0 / q.diagonal : 0;
     q.distanceOutToInPct = maxOut * pct;
@@ -316,6 +341,10 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.field("non_manifold_edges", q.nonManifoldEdges).field("non_manifold_vertices", q.nonManifoldVertices);
     json.field("inconsistent_edges", q.inconsistentEdges).field("isolated_vertices", q.isolatedVertices);
     json.field("degenerate_faces", q.degenerateFaces).field("flipped_faces", q.flippedFaces);
+    json.field("kept", !q.topologyLost());
+    json.key("problems_at").beginArray();
+    for (const Vec3 &p : q.problems) json.beginArray().value(p.x()).value(p.y()).value(p.z()).endArray();
+    json.endArray();
     json.endObject();
     json.key("valence_histogram").beginObject();
     for (const auto &[k, n] : q.valenceHistogram) json.field(std::to_string(k), n);
@@ -343,6 +372,8 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.key("distance_pct_of_diagonal").beginObject();
     json.field("output_to_input", q.distanceOutToInPct).field("input_to_output", q.distanceInToOutPct);
     json.field("output_to_input_mean", q.distanceOutToInMeanPct).field("input_to_output_mean", q.distanceInToOutMeanPct);
+    const Vec3 &far = q.farthestInputPoint;
+    json.key("input_to_output_at").beginArray().value(far.x()).value(far.y()).value(far.z()).endArray();
     json.endObject();
     json.endObject();
 }

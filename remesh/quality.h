@@ -35,6 +35,17 @@ struct QualityReport {
     // faces
     int degenerateFaces = 0; ///< a repeated vertex, or area below 1e-6 L²
     int flippedFaces = 0;    ///< normal against the input surface's at the face centre
+    /// Where the topology checks failed, up to kMaxProblems places in this order: the
+    /// midpoints of boundary edges (only when the input is closed), non-manifold
+    /// vertices, the centres of flipped faces (each kind in mesh order).
+    static constexpr int kMaxProblems = 8;
+    std::vector<Vec3> problems;
+    /// The topology the input had is not kept: closed input but open output, another
+    /// Euler characteristic, non-manifold, not oriented, or flipped faces.
+    bool topologyLost() const {
+        return (inputBoundaryEdges == 0 && !closed) || eulerCharacteristic != inputEulerCharacteristic || !manifold ||
+               !oriented || flippedFaces > 0;
+    }
     // vertices
     std::map<int, int> valenceHistogram; ///< interior vertices
     int irregularVertices = 0;           ///< interior, valence != 4 (N = 4) or 6 (N = 6)
@@ -54,6 +65,12 @@ struct QualityReport {
     double alignmentMedianDeg = 0, alignmentP90Deg = 0; ///< edges vs nearest field member
     double distanceOutToInPct = 0, distanceInToOutPct = 0; ///< one-sided Hausdorff, % of diagonal
     double distanceOutToInMeanPct = 0, distanceInToOutMeanPct = 0;
+    /// The input point (vertex or face centroid) farthest from the output: where
+    /// distanceInToOutPct is measured.
+    Vec3 farthestInputPoint = Vec3::Zero();
+    /// A part of the input is missing from the output: some input point is more
+    /// than 2 L from it (a thin tail cut off), or the output has no triangle.
+    bool partsMissing() const { return !(distanceInToOutPct * diagonal / 100 <= 2 * edgeLength); }
 };
 
 /// Measures `polygons` over `positions` against frames.mesh(), `field` and its singularities.

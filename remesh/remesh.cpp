@@ -10,6 +10,7 @@
 #include "field/features.h"
 #include "field/mesh/union_find.h"
 #include "remesh/aabb_tree.h"
+#include "remesh/polygon_ops.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
@@ -1102,48 +1103,6 @@ void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vect
     repairs["quads_split"] = splitQuads;
 }
 
-/// A vertex left with two neighbours a, b (in exactly two faces) is removed: a
-/// face of four or more sides loses it, a triangle (a, v, b) goes (its third
-/// edge a–b is then shared by the faces on both sides of it). Keeps the mesh
-/// manifold and oriented; valence-2 vertices are a target of issue 20.
-void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, std::map<std::string, int> &repairs) {
-    std::vector<std::vector<int>> facesOf(nVertices);
-    for (int f = 0; f < int(polygons.size()); ++f)
-        for (int v : polygons[f]) facesOf[v].push_back(f);
-    std::vector<char> gone(polygons.size(), 0);
-    int dissolved = 0;
-    for (int v = 0; v < nVertices; ++v) {
-        if (facesOf[v].size() != 2) continue;
-        const int f = facesOf[v][0], g = facesOf[v][1];
-        if (f == g || gone[f] || gone[g]) continue;
-        if (polygons[f].size() == 3 && polygons[g].size() == 3) continue; // a double triangle: leave it
-        // On an open mesh's boundary (its two faces do not share both its edges): valence 3, kept.
-        auto ends = [&](int h) {
-            const std::vector<int> &P = polygons[h];
-            const size_t k = size_t(std::find(P.begin(), P.end(), v) - P.begin());
-            const int a = P[(k + P.size() - 1) % P.size()], b = P[(k + 1) % P.size()];
-            return std::pair{std::min(a, b), std::max(a, b)};
-        };
-        if (ends(f) != ends(g)) continue;
-        for (int h : {f, g}) {
-            if (polygons[h].size() == 3) {
-                gone[h] = 1;
-                for (int x : polygons[h]) // its other two corners no longer list it
-                    if (x != v) facesOf[x].erase(std::find(facesOf[x].begin(), facesOf[x].end(), h));
-            } else {
-                polygons[h].erase(std::find(polygons[h].begin(), polygons[h].end(), v));
-            }
-        }
-        facesOf[v].clear();
-        ++dissolved;
-    }
-    std::vector<std::vector<int>> kept;
-    for (size_t f = 0; f < polygons.size(); ++f)
-        if (!gone[f]) kept.push_back(std::move(polygons[f]));
-    polygons.swap(kept);
-    repairs["valence2_dissolved_in_faces"] = dissolved;
-}
-
 /// All ways to cut polygon `poly` (an even number of corners) into quads by
 /// diagonals, appended to `out` (each a list of quads).
 void quadrangulations(const std::vector<int> &poly, std::vector<std::vector<std::vector<int>>> &out) {
@@ -2230,7 +2189,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         }
     result.repairs["faces_split"] = split;
     mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
-    dissolveValence2(polygons, int(positions.size()), result.repairs);
+    dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
     if (result.nSym == 4) {
         const auto tc = Clock::now();
         cancelDislocationPairs(polygons, positions, result.repairs);
@@ -2238,7 +2197,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         // A re-cut can leave a vertex between two quads that share both its edges
         // (homer: 2 with features, 1 at μ = 0): dissolved like the others.
         const int dissolvedBefore = result.repairs["valence2_dissolved_in_faces"];
-        dissolveValence2(polygons, int(positions.size()), result.repairs);
+        dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
         result.repairs["valence2_dissolved_in_faces"] += dissolvedBefore;
     }
     std::function<void(size_t, Vec3 &)> constrain;
@@ -2257,6 +2216,11 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
     result.repairs["faces_dropped"] = dropped;
+
+    // A face traced through a vertex twice was split there into two loops, which
+    // pinches the surface at that vertex (two fans of faces meeting at one point):
+    // OpenMesh would refuse faces at it, leaving holes. Each fan gets its own vertex.
+    result.repairs["pinched_vertices_split"] = splitPinchedVertices(polygons, positions, 0.25 * options.edgeLength);
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -36,6 +37,9 @@ TEST(RemeshCli, SceneToObjWithReport) {
     const auto &q = j["quality"];
     EXPECT_TRUE(q["topology"]["closed"].get<bool>());
     EXPECT_EQ(q["topology"]["euler_characteristic"], 0);
+    EXPECT_TRUE(q["topology"]["kept"].get<bool>());
+    EXPECT_TRUE(q["topology"]["problems_at"].empty());
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
     // faces by sides add up, and the quad fraction is their share
     int sum = 0;
     for (const auto &[sides, n] : q["faces_by_sides"].items()) sum += n.get<int>();
@@ -47,6 +51,43 @@ TEST(RemeshCli, SceneToObjWithReport) {
     int faces = 0;
     for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
     EXPECT_EQ(faces, q["faces"].get<int>());
+}
+
+// A tube thinner than the edge length (a torus of minor radius 0.01 at L = 1 % of
+// its diagonal, 0.028): the lattice cannot follow it. The mesh is written, but the
+// command says that and where (docs/remeshing.md, "When the topology is not kept");
+// at minor radius 0.005 nothing is left, which is an error and writes nothing.
+TEST(RemeshCli, PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError) {
+    const fs::path dir = workDir("thin");
+    std::ofstream(dir / "thin.yaml") << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.01, nu: 256, nv: 16}\n";
+    const CliRun r = runRosyhatch(dir, "remesh thin.yaml -o thin.obj --report thin.json --quiet", "thin");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("thin.obj: warning: the remesh does not keep the input's topology ("), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("a part of the input is missing: ("), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--edge 0.5%"), std::string::npos) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "thin.json"));
+    const auto &t = j["quality"]["topology"];
+    EXPECT_FALSE(t["kept"].get<bool>());
+    // The torus has χ 0; whatever is lost, the places named lie on the tube (within
+    // a few L of the circle of radius 1 in z = 0).
+    ASSERT_FALSE(t["problems_at"].empty());
+    for (const auto &p : t["problems_at"]) {
+        const double rho = std::hypot(p[0].get<double>(), p[1].get<double>());
+        EXPECT_NEAR(rho, 1.0, 0.1) << p;
+        EXPECT_NEAR(p[2].get<double>(), 0.0, 0.1) << p;
+    }
+    const auto &far = j["quality"]["distance_pct_of_diagonal"]["input_to_output_at"];
+    EXPECT_NEAR(std::hypot(far[0].get<double>(), far[1].get<double>()), 1.0, 0.02) << far;
+
+    std::ofstream(dir / "thinner.yaml")
+        << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.005, nu: 256, nv: 16}\n";
+    std::ofstream(dir / "thinner.obj") << "previous\n";
+    const CliRun e = runRosyhatch(dir, "remesh thinner.yaml -o thinner.obj --report thinner.json --quiet", "thinner");
+    EXPECT_EQ(e.exitCode, 2) << e.err;
+    EXPECT_NE(e.err.find("--edge: error: at edge length 0.02843 (1%) the remesh has no face"), std::string::npos)
+        << e.err;
+    EXPECT_EQ(slurp(dir / "thinner.obj"), "previous\n");
+    EXPECT_FALSE(fs::exists(dir / "thinner.json"));
 }
 
 // --anisotropic-scale reaches the remesher: 0 draws the lattice with L along both

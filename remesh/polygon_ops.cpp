@@ -1,0 +1,145 @@
+/// \file polygon_ops.cpp
+/// See polygon_ops.h.
+
+#include "remesh/polygon_ops.h"
+
+#include "field/mesh/union_find.h"
+
+#include <algorithm>
+
+namespace rosy::remesh {
+
+void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, int maxSides,
+                      std::map<std::string, int> &repairs) {
+    std::vector<std::vector<int>> facesOf(static_cast<size_t>(nVertices));
+    for (int f = 0; f < int(polygons.size()); ++f)
+        for (int v : polygons[size_t(f)]) facesOf[size_t(v)].push_back(f);
+    std::vector<char> gone(polygons.size(), 0);
+    int dissolved = 0, merged = 0;
+    // v's neighbours in face h: (predecessor, successor)
+    auto around = [&](int h, int v) {
+        const std::vector<int> &P = polygons[size_t(h)];
+        const size_t k = size_t(std::find(P.begin(), P.end(), v) - P.begin());
+        return std::pair{P[(k + P.size() - 1) % P.size()], P[(k + 1) % P.size()]};
+    };
+    for (int v = 0; v < nVertices; ++v) {
+        if (facesOf[size_t(v)].size() != 2) continue;
+        const int f = facesOf[size_t(v)][0], g = facesOf[size_t(v)][1];
+        if (f == g || gone[size_t(f)] || gone[size_t(g)]) continue;
+        std::vector<int> &F = polygons[size_t(f)], &G = polygons[size_t(g)];
+        if (F.size() == 3 && G.size() == 3) continue; // a double triangle: leave it
+        // On an open mesh's boundary (its two faces do not share both its edges): valence 3, kept.
+        const auto [fa, fb] = around(f, v);
+        const auto [ga, gb] = around(g, v);
+        if (!(fa == gb && fb == ga)) continue;
+        const int a = fa, b = fb;
+        // Is a–b an edge of a face other than f and g?
+        bool joined = false;
+        for (int h : facesOf[size_t(a)]) {
+            if (h == f || h == g || gone[size_t(h)]) continue;
+            const auto [p, n] = around(h, a);
+            joined = joined || p == b || n == b;
+        }
+        if (joined && F.size() > 3 && G.size() > 3) {
+            // F runs v -> b -> ... -> a -> v, G runs v -> a -> ... -> b -> v: the union
+            // is F's path from b to a, then G's inner vertices from a back to b.
+            auto after = [&](const std::vector<int> &P) { // P from v's successor to its predecessor
+                const size_t k = size_t(std::find(P.begin(), P.end(), v) - P.begin());
+                std::vector<int> path;
+                for (size_t i = 1; i < P.size(); ++i) path.push_back(P[(k + i) % P.size()]);
+                return path;
+            };
+            std::vector<int> u = after(F);
+            const std::vector<int> w = after(G);
+            u.insert(u.end(), w.begin() + 1, w.end() - 1);
+            std::vector<int> sorted = u;
+            std::sort(sorted.begin(), sorted.end());
+            if (int(u.size()) > maxSides || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+                continue;
+            for (int x : G) {
+                std::vector<int> &list = facesOf[size_t(x)];
+                list.erase(std::find(list.begin(), list.end(), g));
+                if (x != v && std::find(list.begin(), list.end(), f) == list.end()) list.push_back(f);
+            }
+            F = std::move(u);
+            gone[size_t(g)] = 1;
+            facesOf[size_t(v)].clear();
+            ++merged;
+            ++dissolved;
+            continue;
+        }
+        // (With a triangle (v, b, a), a–b is that triangle's own edge: it goes and the
+        // other face takes its side b -> a.)
+        for (int h : {f, g}) {
+            std::vector<int> &P = polygons[size_t(h)];
+            if (P.size() == 3) {
+                gone[size_t(h)] = 1;
+                for (int x : P) // its other two corners no longer list it
+                    if (x != v) facesOf[size_t(x)].erase(std::find(facesOf[size_t(x)].begin(), facesOf[size_t(x)].end(), h));
+            } else {
+                P.erase(std::find(P.begin(), P.end(), v));
+            }
+        }
+        facesOf[size_t(v)].clear();
+        ++dissolved;
+    }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (!gone[f]) kept.push_back(std::move(polygons[f]));
+    polygons.swap(kept);
+    repairs["valence2_dissolved_in_faces"] = dissolved;
+    repairs["valence2_faces_merged"] += merged;
+}
+
+int splitPinchedVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, double maxStep) {
+    struct Corner {
+        int face, slot, prev, next;
+    };
+    std::vector<std::vector<Corner>> corners(positions.size());
+    for (int f = 0; f < int(polygons.size()); ++f) {
+        const std::vector<int> &P = polygons[size_t(f)];
+        for (size_t k = 0; k < P.size(); ++k)
+            corners[size_t(P[k])].push_back({f, int(k), P[(k + P.size() - 1) % P.size()], P[(k + 1) % P.size()]});
+    }
+    int made = 0;
+    const size_t nV = positions.size();
+    for (size_t v = 0; v < nV; ++v) {
+        const std::vector<Corner> &cs = corners[v];
+        if (cs.size() < 2) continue;
+        // Around v, the corner after (prev p, next n) is the one whose prev is n.
+        std::map<int, int> byPrev;
+        bool ambiguous = false;
+        for (size_t i = 0; i < cs.size(); ++i) ambiguous = ambiguous || !byPrev.emplace(cs[i].prev, int(i)).second;
+        if (ambiguous) continue; // a directed edge twice: not a pinch, left to the report
+        field::UnionFind fans(int(cs.size()));
+        for (size_t i = 0; i < cs.size(); ++i)
+            if (auto it = byPrev.find(cs[i].next); it != byPrev.end()) fans.unite(int(i), it->second);
+        std::map<int, int> fanOf; // root -> fan number, in corner order
+        for (size_t i = 0; i < cs.size(); ++i) fanOf.emplace(fans.find(int(i)), int(fanOf.size()));
+        if (fanOf.size() < 2) continue;
+        std::vector<Vec3> sum(fanOf.size(), Vec3::Zero());
+        std::vector<int> count(fanOf.size(), 0);
+        for (size_t i = 0; i < cs.size(); ++i) {
+            const int k = fanOf[fans.find(int(i))];
+            sum[size_t(k)] += positions[size_t(cs[i].prev)] + positions[size_t(cs[i].next)];
+            count[size_t(k)] += 2;
+        }
+        const Vec3 at = positions[v];
+        std::vector<int> id(fanOf.size(), int(v));
+        for (size_t k = 0; k < fanOf.size(); ++k) {
+            if (k > 0) {
+                id[k] = int(positions.size());
+                positions.push_back(at);
+                ++made;
+            }
+            const Vec3 d = sum[k] / double(count[k]) - at;
+            const double len = d.norm();
+            if (len > 0) positions[size_t(id[k])] = at + d * (std::min(0.25 * len, maxStep) / len);
+        }
+        for (size_t i = 0; i < cs.size(); ++i)
+            polygons[size_t(cs[i].face)][size_t(cs[i].slot)] = id[size_t(fanOf[fans.find(int(i))])];
+    }
+    return made;
+}
+
+} // namespace rosy::remesh

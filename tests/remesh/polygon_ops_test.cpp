@@ -1,0 +1,147 @@
+// The remesher's combinatorial clean-up steps on hand-made polygon meshes,
+// checked by a walk written here (not the quality report's): every directed edge
+// in one face and its reverse in another (closed, oriented), and the corners at
+// every vertex one cycle (manifold).
+
+#include "remesh/polygon_ops.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace rosy::remesh {
+namespace {
+
+using Polygons = std::vector<std::vector<int>>;
+
+struct Shape {
+    bool closedOriented = true; ///< each directed edge once, its reverse present
+    bool manifold = true;       ///< one cycle of corners around every used vertex
+    int usedVertices = 0, edges = 0, faces = 0;
+    int chi() const { return usedVertices - edges + faces; }
+};
+
+Shape shapeOf(const Polygons &polygons) {
+    Shape s;
+    std::map<std::pair<int, int>, int> directed;
+    std::map<int, std::map<int, int>> nextAfter; // vertex -> (prev -> next) of its corners
+    std::map<int, int> cornerCount;
+    for (const auto &P : polygons) {
+        ++s.faces;
+        for (size_t k = 0; k < P.size(); ++k) {
+            const int a = P[k], b = P[(k + 1) % P.size()], p = P[(k + P.size() - 1) % P.size()];
+            ++directed[{a, b}];
+            if (!nextAfter[a].emplace(p, b).second) s.manifold = false;
+            ++cornerCount[a];
+        }
+    }
+    for (const auto &[e, n] : directed)
+        if (n != 1 || !directed.count({e.second, e.first})) s.closedOriented = false;
+    std::set<std::pair<int, int>> undirected;
+    for (const auto &[e, n] : directed) undirected.insert({std::min(e.first, e.second), std::max(e.first, e.second)});
+    s.edges = int(undirected.size());
+    s.usedVertices = int(cornerCount.size());
+    for (const auto &[v, after] : nextAfter) { // walk: a corner (p, n) is followed by the corner (n, ·)
+        int steps = 0, x = after.begin()->first;
+        do {
+            auto it = after.find(x);
+            if (it == after.end()) break;
+            x = it->second;
+            ++steps;
+        } while (x != after.begin()->first && steps <= cornerCount[v]);
+        if (steps != cornerCount[v]) s.manifold = false;
+    }
+    return s;
+}
+
+// A cube, faces counter-clockwise from outside (bottom 0-3, top 4-7).
+Polygons cube() {
+    return {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+}
+
+TEST(DissolveValence2, VertexOnACubeEdgeIsRemoved) {
+    // Vertex 8 on the edge 0-1, in the bottom and the front face only.
+    Polygons P = {{0, 3, 2, 1, 8}, {4, 5, 6, 7}, {0, 8, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    ASSERT_TRUE(shapeOf(P).closedOriented);
+    std::map<std::string, int> repairs;
+    dissolveValence2(P, 9, 6, repairs);
+    EXPECT_EQ(P, cube());
+    EXPECT_EQ(repairs["valence2_dissolved_in_faces"], 1);
+    EXPECT_EQ(repairs["valence2_faces_merged"], 0);
+}
+
+TEST(DissolveValence2, NeighboursAlreadyJoinedMergeTheTwoFacesInsteadOfDoublingTheirEdge) {
+    // A sphere of four faces: v = 2 between the quads (0 2 1 3) and (1 2 0 4), whose
+    // other corners 0 and 1 are already joined by the triangles (0 3 1) and (0 1 4).
+    // Removing 2 from both quads (the old step) would put 0 -> 1 and 1 -> 0 in two
+    // faces each (found on CGAL's triceratops: OpenMesh refused the faces, leaving a hole).
+    Polygons P = {{0, 2, 1, 3}, {1, 2, 0, 4}, {0, 3, 1}, {0, 1, 4}};
+    const Shape before = shapeOf(P);
+    ASSERT_TRUE(before.closedOriented && before.manifold);
+    ASSERT_EQ(before.chi(), 2);
+    std::map<std::string, int> repairs;
+    dissolveValence2(P, 5, 6, repairs);
+    // The union (1 3 0 4) leaves 3 and 4 with two neighbours each, which dissolve in
+    // turn (a triangle goes each time): what is left must still be a closed,
+    // oriented, manifold sphere without vertex 2.
+    auto uses = [](const Polygons &Q, int v) {
+        for (const auto &f : Q)
+            if (std::find(f.begin(), f.end(), v) != f.end()) return true;
+        return false;
+    };
+    const Shape after = shapeOf(P);
+    EXPECT_TRUE(after.closedOriented);
+    EXPECT_TRUE(after.manifold);
+    EXPECT_EQ(after.chi(), 2);
+    EXPECT_FALSE(uses(P, 2));
+    EXPECT_EQ(repairs["valence2_faces_merged"], 1);
+    // With at most three sides allowed the union (a quad) is refused: 2 stays, and
+    // the mesh is still sound after 3 and 4 dissolve.
+    Polygons Q = {{0, 2, 1, 3}, {1, 2, 0, 4}, {0, 3, 1}, {0, 1, 4}};
+    std::map<std::string, int> none;
+    dissolveValence2(Q, 5, 3, none);
+    const Shape q = shapeOf(Q);
+    EXPECT_TRUE(q.closedOriented);
+    EXPECT_TRUE(q.manifold);
+    EXPECT_EQ(q.chi(), 2);
+    EXPECT_TRUE(uses(Q, 2));
+    EXPECT_EQ(none["valence2_faces_merged"], 0);
+}
+
+TEST(SplitPinchedVertices, TwoTetrahedraSharingAVertexGetOneEach) {
+    Polygons P = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}};
+    std::vector<Vec3> x = {{0, 0, 0},  {1, 0, 0},   {0, 1, 0},  {0.5, 0.5, 1},
+                           {-1, 0, 0}, {0, -1, 0}, {-0.5, -0.5, -1}};
+    ASSERT_FALSE(shapeOf(P).manifold);
+    const int made = splitPinchedVertices(P, x, 0.1);
+    EXPECT_EQ(made, 1);
+    ASSERT_EQ(x.size(), 8u);
+    const Shape s = shapeOf(P);
+    EXPECT_TRUE(s.closedOriented);
+    EXPECT_TRUE(s.manifold);
+    EXPECT_EQ(s.chi(), 4); // two spheres
+    // The first tetrahedron keeps 0, the second gets 7; each moved toward its own
+    // fan by at most 0.1, so they no longer coincide.
+    EXPECT_EQ(P[0][0], 0);
+    EXPECT_EQ(P[4][0], 7);
+    EXPECT_LE(x[0].norm(), 0.1 + 1e-12);
+    EXPECT_LE(x[7].norm(), 0.1 + 1e-12);
+    EXPECT_GT((x[0] - x[7]).norm(), 0.1);
+    EXPECT_GT(x[0].x() + x[0].y(), 0.0); // toward (1, 1)
+    EXPECT_LT(x[7].x() + x[7].y(), 0.0);
+}
+
+TEST(SplitPinchedVertices, AManifoldMeshIsLeftAlone) {
+    Polygons P = cube();
+    std::vector<Vec3> x(8, Vec3::Zero());
+    for (int i = 0; i < 8; ++i) x[size_t(i)] = Vec3(i & 1, (i >> 1) & 1, i >> 2);
+    const std::vector<Vec3> before = x;
+    EXPECT_EQ(splitPinchedVertices(P, x, 0.1), 0);
+    EXPECT_EQ(P, cube());
+    EXPECT_EQ(x, before);
+}
+
+} // namespace
+} // namespace rosy::remesh
