@@ -112,8 +112,8 @@ void warnThinParts(const std::string &output, const remesh::QualityReport &q) {
              what + ")" + where +
              ": the lattice cannot follow a part about as thin as the edge length or thinner (a tail, a finger, "
              "a rim); an edge well below that part's width keeps it (half the length now: --edge " + buf +
-             "; docs/remeshing.md, \"When the topology is not kept\"). The report's topology.problems_at lists "
-             "such places");
+             "; docs/remeshing.md, \"When the topology is not kept\")" +
+             (q.problems.empty() ? "" : ". The report's quality.topology.problems_at lists such places"));
 }
 
 void runRemesh(const RemeshCliOptions &opt) {

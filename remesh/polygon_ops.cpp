@@ -6,6 +6,7 @@
 #include "field/mesh/union_find.h"
 
 #include <algorithm>
+#include <functional>
 
 namespace rosy::remesh {
 
@@ -140,6 +141,77 @@ int splitPinchedVertices(std::vector<std::vector<int>> &polygons, std::vector<Ve
             polygons[size_t(cs[i].face)][size_t(cs[i].slot)] = id[size_t(fanOf[fans.find(int(i))])];
     }
     return made;
+}
+
+Vec3 vectorArea(const std::vector<int> &poly, const std::vector<Vec3> &positions) {
+    Vec3 a = Vec3::Zero();
+    for (size_t k = 0; k < poly.size(); ++k) a += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
+    return a;
+}
+
+bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const field::Mesh &input,
+                const AabbTree &inputTree) {
+    Vec3 c = Vec3::Zero();
+    for (int v : poly) c += positions[v];
+    const ClosestPoint cp = inputTree.closest(c / double(poly.size()));
+    return cp.triangle >= 0 && vectorArea(poly, positions).dot(input.faceNormal(cp.triangle)) > 0;
+}
+
+int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                    const field::Mesh &input, const AabbTree &inputTree, double L,
+                    const std::function<bool(size_t)> &fixed) {
+    constexpr int kUntangleRounds = 3;
+    constexpr double kUntangleMinArea = 0.01;
+    std::vector<std::vector<int>> facesOf(positions.size()), neighbours(positions.size());
+    for (int f = 0; f < int(polygons.size()); ++f) {
+        const std::vector<int> &P = polygons[size_t(f)];
+        for (size_t k = 0; k < P.size(); ++k) {
+            facesOf[size_t(P[k])].push_back(f);
+            neighbours[size_t(P[k])].push_back(P[(k + 1) % P.size()]);
+            neighbours[size_t(P[k])].push_back(P[(k + P.size() - 1) % P.size()]);
+        }
+    }
+    for (auto &n : neighbours) {
+        std::sort(n.begin(), n.end());
+        n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+    // facing the input with some area
+    auto sound = [&](int f) {
+        const std::vector<int> &P = polygons[size_t(f)];
+        Vec3 c = Vec3::Zero();
+        for (int v : P) c += positions[size_t(v)];
+        const ClosestPoint cp = inputTree.closest(c / double(P.size()));
+        return cp.triangle >= 0 &&
+               vectorArea(P, positions).dot(input.faceNormal(cp.triangle)) >= kUntangleMinArea * L * L;
+    };
+    int moved = 0;
+    for (int round = 0; round < kUntangleRounds; ++round) {
+        int movedNow = 0;
+        for (int f = 0; f < int(polygons.size()); ++f) {
+            if (facesInput(polygons[size_t(f)], positions, input, inputTree)) continue;
+            for (int v : polygons[size_t(f)]) {
+                if (fixed(size_t(v)) || neighbours[size_t(v)].empty()) continue;
+                Vec3 mean = Vec3::Zero();
+                for (int u : neighbours[size_t(v)]) mean += positions[size_t(u)];
+                mean /= double(neighbours[size_t(v)].size());
+                const Vec3 old = positions[size_t(v)];
+                bool done = false;
+                for (double t : {1.0, 0.75, 0.5, 0.25}) {
+                    positions[size_t(v)] = inputTree.closest(old + t * (mean - old)).point;
+                    done = std::all_of(facesOf[size_t(v)].begin(), facesOf[size_t(v)].end(), sound);
+                    if (done) break;
+                }
+                if (done) {
+                    ++movedNow;
+                    break;
+                }
+                positions[size_t(v)] = old;
+            }
+        }
+        moved += movedNow;
+        if (movedNow == 0) break;
+    }
+    return moved;
 }
 
 } // namespace rosy::remesh

@@ -6,6 +6,9 @@
 /// most one face and every undirected edge in at most two.
 
 #include "field/mesh/mesh.h"
+#include "remesh/aabb_tree.h"
+
+#include <functional>
 
 #include <map>
 #include <string>
@@ -35,5 +38,26 @@ void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, in
 /// neighbours, at most `maxStep`, so no two coincide. Appends the copies to
 /// `positions`; returns how many were made.
 int splitPinchedVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, double maxStep);
+
+/// Twice the vector area of a polygon (Newell): its normal times twice its area.
+Vec3 vectorArea(const std::vector<int> &poly, const std::vector<Vec3> &positions);
+
+/// The quality report's test of a flipped face, negated: true when the polygon's
+/// vector area points along the normal of the input triangle nearest its centroid.
+bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const field::Mesh &input,
+                const AabbTree &inputTree);
+
+/// Flipped faces (not facesInput) are untangled where moving one of their corners
+/// mends them: a sliver whose middle corner lies on the line of the other two (its
+/// orientation is rounding), a corner pulled across its neighbour by the repairs
+/// before. Each corner of a flipped face in turn (not `fixed`) tries the mean of its
+/// neighbours and the points 3/4, 1/2 and 1/4 of the way there from where it is,
+/// each put back on the input; the first with which every face around the corner
+/// faces the input with twice its area along the input's normal at least 0.01 L²
+/// is kept. Faces in index order, up to three rounds; connectivity is not changed.
+/// Returns how many corners moved.
+int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                    const field::Mesh &input, const AabbTree &inputTree, double L,
+                    const std::function<bool(size_t)> &fixed);
 
 } // namespace rosy::remesh

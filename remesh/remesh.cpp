@@ -1302,13 +1302,6 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
     repairs["dislocation_pairs_cancelled"] = cancelled;
 }
 
-/// Twice the vector area of a polygon (Newell): its normal times twice its area.
-Vec3 vectorArea(const std::vector<int> &poly, const std::vector<Vec3> &positions) {
-    Vec3 a = Vec3::Zero();
-    for (size_t k = 0; k < poly.size(); ++k) a += positions[poly[k]].cross(positions[poly[(k + 1) % poly.size()]]);
-    return a;
-}
-
 /// Optional rounds of tangential smoothing: each vertex moves halfway to the mean of
 /// its neighbours within its tangent plane (the normal part of that step removed, so
 /// that a tip or a ridge is not pulled inward), then back onto the input surface.
@@ -1484,16 +1477,6 @@ std::optional<Vec3> surfaceAlong(const AabbTree &inputTree, const Vec3 &p, const
     return std::nullopt;
 }
 
-/// The report's test of a flipped face: its vector area against the normal of the
-/// input triangle nearest its centroid.
-bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const field::Mesh &input,
-                const AabbTree &inputTree) {
-    Vec3 c = Vec3::Zero();
-    for (int v : poly) c += positions[v];
-    const ClosestPoint cp = inputTree.closest(c / double(poly.size()));
-    return cp.triangle >= 0 && vectorArea(poly, positions).dot(input.faceNormal(cp.triangle)) > 0;
-}
-
 /// Calls visit(p) for the samples of triangle (a, b, c) the report takes: a
 /// barycentric grid of k = ⌈longest side / (L/3)⌉ divisions (1 to 64), row by row.
 template <typename Visit> void forEachSample(const Vec3 &a, const Vec3 &b, const Vec3 &c, double L, Visit &&visit) {
@@ -1549,6 +1532,8 @@ std::vector<std::vector<int>> cutFrom(const std::vector<int> &H, int i, const st
     }
     return best;
 }
+
+
 
 /// The two-sided distance held: after the snapping, what is still farther than
 /// kFarDistance L from the other surface gets a vertex of its own, in rounds:
@@ -2221,6 +2206,9 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     // pinches the surface at that vertex (two fans of faces meeting at one point):
     // OpenMesh would refuse faces at it, leaving holes. Each fan gets its own vertex.
     result.repairs["pinched_vertices_split"] = splitPinchedVertices(polygons, positions, 0.25 * options.edgeLength);
+    result.repairs["flipped_corners_moved"] =
+        untangleFlipped(polygons, positions, mesh, tree, options.edgeLength,
+                        [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; });
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);

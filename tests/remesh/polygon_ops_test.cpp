@@ -5,6 +5,8 @@
 
 #include "remesh/polygon_ops.h"
 
+#include "remesh/aabb_tree.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -141,6 +143,28 @@ TEST(SplitPinchedVertices, AManifoldMeshIsLeftAlone) {
     EXPECT_EQ(splitPinchedVertices(P, x, 0.1), 0);
     EXPECT_EQ(P, cube());
     EXPECT_EQ(x, before);
+}
+
+// A fan of four triangles over a flat unit square (normal +z) whose centre has
+// been pushed across the ring's right side: the triangle on that side is
+// clockwise seen from +z, flipped. Moving the centre toward its neighbours' mean
+// mends it; a fixed centre stays and so does the flip.
+TEST(UntangleFlipped, ACentrePushedAcrossItsRingMovesBack) {
+    const field::Mesh square = field::Mesh::fromTriangles({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+                                                           {{0, 1, 2}, {0, 2, 3}}, "square");
+    const AabbTree tree(square);
+    const Polygons fan = {{4, 0, 1}, {4, 1, 2}, {4, 2, 3}, {4, 3, 0}};
+    const std::vector<Vec3> start = {{0.1, 0.1, 0}, {0.9, 0.1, 0}, {0.9, 0.9, 0}, {0.1, 0.9, 0}, {0.95, 0.5, 0}};
+    std::vector<Vec3> x = start;
+    ASSERT_FALSE(facesInput(fan[1], x, square, tree));
+    ASSERT_TRUE(facesInput(fan[0], x, square, tree));
+    std::vector<Vec3> held = start;
+    EXPECT_EQ(untangleFlipped(fan, held, square, tree, 0.5, [](size_t v) { return v == 4; }), 0);
+    EXPECT_EQ(held, start);
+    EXPECT_EQ(untangleFlipped(fan, x, square, tree, 0.5, [](size_t) { return false; }), 1);
+    for (const auto &f : fan) EXPECT_TRUE(facesInput(f, x, square, tree));
+    EXPECT_NEAR((x[4] - Vec3(0.5, 0.5, 0)).norm(), 0.0, 1e-12); // the neighbours' mean, on the square
+    for (int v = 0; v < 4; ++v) EXPECT_EQ(x[size_t(v)], start[size_t(v)]);
 }
 
 } // namespace
