@@ -110,8 +110,9 @@ void warnThinParts(const std::string &output, const remesh::QualityReport &q) {
     warn(output, "remesh-thin-parts",
          std::string(q.topologyLost() ? "the remesh does not keep the input's topology (" : "the remesh is not whole (") +
              what + ")" + where +
-             ": the lattice cannot follow a part about as thin as the edge length or thinner (a tail, a finger, "
-             "a rim); an edge well below that part's width keeps it (half the length now: --edge " + buf +
+             ": the lattice cannot follow a part, or a gap between two parts, about as narrow as the edge length "
+             "or narrower (a tail, a finger, a rim, a tail lying on the body); an edge well below that width keeps "
+             "it (half the length now: --edge " + buf +
              "; docs/remeshing.md, \"When the topology is not kept\")" +
              (q.problems.empty() ? "" : ". The report's quality.topology.problems_at lists such places"));
 }
