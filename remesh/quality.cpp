@@ -279,7 +279,21 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     }, 16);
     double maxOut = 0, sumOut = 0;
     const long long nOut = (long long)outDist.size();
-    for (double d : outDist) maxOut = std::max(maxOut, d), sumOut += d;
+    size_t farthestSample = 0;
+    for (size_t i = 0; i < outDist.size(); ++i) {
+        if (outDist[i] > maxOut) maxOut = outDist[i], farthestSample = i;
+        sumOut += outDist[i];
+    }
+    if (maxOut > 0) { // the sample's point, enumerated as above
+        const size_t t = size_t(std::upper_bound(firstSample.begin(), firstSample.end(), farthestSample) -
+                                firstSample.begin()) - 1;
+        const Vec3 &a = positions[tris[t][0]], &b = positions[tris[t][1]], &c = positions[tris[t][2]];
+        const int k = samplesOf[t];
+        size_t at = firstSample[t];
+        for (int i = 0; i <= k; ++i)
+            for (int j = 0; i + j <= k; ++j)
+                if (at++ == farthestSample) q.farthestOutputPoint = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
+    }
     const AabbTree output(positions, tris);
     double maxIn = 0, sumIn = 0;
     long long nIn = 0;
@@ -372,8 +386,9 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.key("distance_pct_of_diagonal").beginObject();
     json.field("output_to_input", q.distanceOutToInPct).field("input_to_output", q.distanceInToOutPct);
     json.field("output_to_input_mean", q.distanceOutToInMeanPct).field("input_to_output_mean", q.distanceInToOutMeanPct);
-    const Vec3 &far = q.farthestInputPoint;
-    json.key("input_to_output_at").beginArray().value(far.x()).value(far.y()).value(far.z()).endArray();
+    for (const auto &[key, at] : {std::pair{"output_to_input_at", q.farthestOutputPoint},
+                                  std::pair{"input_to_output_at", q.farthestInputPoint}})
+        json.key(key).beginArray().value(at.x()).value(at.y()).value(at.z()).endArray();
     json.endObject();
     json.endObject();
 }

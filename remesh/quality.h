@@ -68,6 +68,8 @@ struct QualityReport {
     /// The input point (vertex or face centroid) farthest from the output: where
     /// distanceInToOutPct is measured.
     Vec3 farthestInputPoint = Vec3::Zero();
+    /// The output sample farthest from the input: where distanceOutToInPct is measured.
+    Vec3 farthestOutputPoint = Vec3::Zero();
     /// A part of the input is missing from the output: some input point is more
     /// than 2 L from it (a thin tail cut off), or the output has no triangle.
     bool partsMissing() const { return !(distanceInToOutPct * diagonal / 100 <= 2 * edgeLength); }

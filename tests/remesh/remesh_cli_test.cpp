@@ -39,6 +39,18 @@ TEST(RemeshCli, SceneToObjWithReport) {
     EXPECT_EQ(q["topology"]["euler_characteristic"], 0);
     EXPECT_TRUE(q["topology"]["kept"].get<bool>());
     EXPECT_TRUE(q["topology"]["problems_at"].empty());
+    // Where the two distances are measured: the output point lies off the torus (R 1,
+    // r 0.35, as a polygon of 72 × 30) by the reported distance, up to the input
+    // polygon's own departure from the torus (its sagitta, r (1 − cos(π/30)) < 2e-3);
+    // the input point lies on it.
+    const auto &d = q["distance_pct_of_diagonal"];
+    auto offTorus = [](const nlohmann::json &p) {
+        const double rho = std::hypot(p[0].get<double>(), p[1].get<double>());
+        return std::abs(std::hypot(rho - 1.0, p[2].get<double>()) - 0.35);
+    };
+    const double diagonal = q["bbox_diagonal"].get<double>();
+    EXPECT_NEAR(offTorus(d["output_to_input_at"]), d["output_to_input"].get<double>() / 100 * diagonal, 3e-3);
+    EXPECT_LT(offTorus(d["input_to_output_at"]), 3e-3);
     EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
     // faces by sides add up, and the quad fraction is their share
     int sum = 0;
