@@ -6,6 +6,9 @@
 #include "field/mesh/union_find.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <unordered_map>
 #include <functional>
 
 namespace rosy::remesh {
@@ -212,6 +215,50 @@ int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<V
         if (movedNow == 0) break;
     }
     return moved;
+}
+
+int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
+                           const field::Mesh &input, const AabbTree &inputTree, int maxSides) {
+    auto key = [](int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); };
+    std::unordered_map<uint64_t, int> faceOf; // directed edge -> face
+    for (int f = 0; f < int(polygons.size()); ++f) {
+        const std::vector<int> &P = polygons[size_t(f)];
+        for (size_t k = 0; k < P.size(); ++k) faceOf[key(P[k], P[(k + 1) % P.size()])] = f;
+    }
+    std::vector<char> gone(polygons.size(), 0);
+    int absorbed = 0;
+    for (int t = 0; t < int(polygons.size()); ++t) {
+        const std::vector<int> T = polygons[size_t(t)];
+        if (gone[size_t(t)] || T.size() != 3 || facesInput(T, positions, input, inputTree)) continue;
+        std::array<int, 3> order = {0, 1, 2}; // side k runs T[k] -> T[k+1], opposite T[k+2]
+        auto length = [&](int k) { return (positions[size_t(T[size_t(k)])] - positions[size_t(T[size_t((k + 1) % 3)])]).norm(); };
+        std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return length(x) > length(y); });
+        for (int k : order) {
+            const int a = T[size_t(k)], b = T[size_t((k + 1) % 3)], m = T[size_t((k + 2) % 3)];
+            const auto it = faceOf.find(key(b, a));
+            if (it == faceOf.end() || it->second == t || gone[size_t(it->second)]) continue;
+            const int g = it->second;
+            std::vector<int> G = polygons[size_t(g)];
+            if (int(G.size()) >= maxSides || std::find(G.begin(), G.end(), m) != G.end()) continue;
+            // G runs b -> a; m goes between them.
+            const size_t ib = size_t(std::find(G.begin(), G.end(), b) - G.begin());
+            G.insert(G.begin() + long(ib) + 1, m);
+            if (!facesInput(G, positions, input, inputTree)) continue;
+            faceOf.erase(key(b, a));
+            for (size_t j = 0; j < 3; ++j) faceOf.erase(key(T[j], T[(j + 1) % 3]));
+            faceOf[key(b, m)] = g;
+            faceOf[key(m, a)] = g;
+            polygons[size_t(g)] = std::move(G);
+            gone[size_t(t)] = 1;
+            ++absorbed;
+            break;
+        }
+    }
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (!gone[f]) kept.push_back(std::move(polygons[f]));
+    polygons.swap(kept);
+    return absorbed;
 }
 
 } // namespace rosy::remesh

@@ -60,4 +60,15 @@ int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<V
                     const field::Mesh &input, const AabbTree &inputTree, double L,
                     const std::function<bool(size_t)> &fixed);
 
+/// A triangle (a, m, b) still flipped after untangleFlipped — a sliver, or a
+/// triangle of three feature vertices on one crease (zero area) — is absorbed into
+/// the face across its side a–b: that face gains m between a and b (a → m → b
+/// replaces a → b; the triangle's sides a → m and m → b had their reverses in the
+/// faces beyond, so the mesh stays closed, manifold and oriented) and the triangle
+/// goes. Tried across each side, longest first; only if the face across has fewer
+/// than `maxSides` sides, does not hold m already and then faces the input
+/// (facesInput). Faces in index order; returns how many triangles went.
+int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
+                           const field::Mesh &input, const AabbTree &inputTree, int maxSides);
+
 } // namespace rosy::remesh

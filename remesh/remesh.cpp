@@ -2209,6 +2209,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["flipped_corners_moved"] =
         untangleFlipped(polygons, positions, mesh, tree, options.edgeLength,
                         [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; });
+    result.repairs["flipped_triangles_absorbed"] = absorbFlippedTriangles(polygons, positions, mesh, tree, maxSides);
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);

@@ -167,5 +167,27 @@ TEST(UntangleFlipped, ACentrePushedAcrossItsRingMovesBack) {
     for (int v = 0; v < 4; ++v) EXPECT_EQ(x[size_t(v)], start[size_t(v)]);
 }
 
+// A triangle of three points on one line (as three feature vertices on one crease
+// come out): zero area, so it faces nowhere. It is absorbed into the quad across its
+// longest side, which gains the middle point; with at most four sides allowed it stays.
+TEST(AbsorbFlippedTriangles, AZeroAreaTriangleGoesIntoTheFaceAcrossItsLongestSide) {
+    const field::Mesh strip = field::Mesh::fromTriangles({{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}},
+                                                          {{0, 1, 2}, {0, 2, 3}}, "strip");
+    const AabbTree tree(strip);
+    const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
+    const Polygons start = {{0, 2, 3, 4}, {2, 0, 1}};
+    ASSERT_TRUE(facesInput(start[0], x, strip, tree));
+    ASSERT_FALSE(facesInput(start[1], x, strip, tree));
+    Polygons P = start;
+    EXPECT_EQ(absorbFlippedTriangles(P, x, strip, tree, 4), 0);
+    EXPECT_EQ(P, start);
+    EXPECT_EQ(absorbFlippedTriangles(P, x, strip, tree, 6), 1);
+    EXPECT_EQ(P, (Polygons{{0, 1, 2, 3, 4}}));
+    // A sound triangle is left alone.
+    Polygons Q = {{0, 2, 3, 4}, {0, 1, 2}};
+    const std::vector<Vec3> y = {{0, 0, 0}, {1, -0.5, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
+    EXPECT_EQ(absorbFlippedTriangles(Q, y, strip, tree, 6), 0);
+}
+
 } // namespace
 } // namespace rosy::remesh
