@@ -13,6 +13,13 @@
 
 namespace rosy::remesh {
 
+void removeMarked(std::vector<std::vector<int>> &polygons, const std::vector<char> &gone) {
+    std::vector<std::vector<int>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (!gone[f]) kept.push_back(std::move(polygons[f]));
+    polygons.swap(kept);
+}
+
 void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, int maxSides,
                       std::map<std::string, int> &repairs) {
     std::vector<std::vector<int>> facesOf(static_cast<size_t>(nVertices));
@@ -87,10 +94,7 @@ void dissolveValence2(std::vector<std::vector<int>> &polygons, int nVertices, in
         facesOf[size_t(v)].clear();
         ++dissolved;
     }
-    std::vector<std::vector<int>> kept;
-    for (size_t f = 0; f < polygons.size(); ++f)
-        if (!gone[f]) kept.push_back(std::move(polygons[f]));
-    polygons.swap(kept);
+    removeMarked(polygons, gone);
     repairs["valence2_dissolved_in_faces"] = dissolved;
     repairs["valence2_faces_merged"] += merged;
 }
@@ -254,10 +258,7 @@ int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::v
             break;
         }
     }
-    std::vector<std::vector<int>> kept;
-    for (size_t f = 0; f < polygons.size(); ++f)
-        if (!gone[f]) kept.push_back(std::move(polygons[f]));
-    polygons.swap(kept);
+    removeMarked(polygons, gone);
     return absorbed;
 }
 

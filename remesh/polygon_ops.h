@@ -18,6 +18,9 @@ namespace rosy::remesh {
 
 using field::Vec3;
 
+/// Removes the polygons marked in `gone` (one flag per polygon), keeping the order of the rest.
+void removeMarked(std::vector<std::vector<int>> &polygons, const std::vector<char> &gone);
+
 /// A vertex left with two neighbours a, b (in exactly two faces that share both
 /// its edges) is removed: a face of four or more sides loses it, a triangle
 /// (a, v, b) goes (its third edge a–b is then shared by the faces on both sides

@@ -1060,10 +1060,7 @@ void mergeTrianglePairs(std::vector<std::vector<int>> &polygons, const std::vect
                 break;
             }
         }
-        std::vector<std::vector<int>> kept;
-        for (size_t f = 0; f < polygons.size(); ++f)
-            if (!gone[f]) kept.push_back(std::move(polygons[f]));
-        polygons.swap(kept);
+        removeMarked(polygons, gone);
     }
     repairs["triangle_pairs_merged"] = merged;
     // N = 6: quads split along their shorter diagonal (unless it is already an edge).
