@@ -223,7 +223,7 @@ int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<V
 
 int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
                            const field::Mesh &input, const AabbTree &inputTree, int maxSides) {
-    auto key = [](int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); };
+    const auto key = directedEdgeKey;
     std::unordered_map<uint64_t, int> faceOf; // directed edge -> face
     for (int f = 0; f < int(polygons.size()); ++f) {
         const std::vector<int> &P = polygons[size_t(f)];

@@ -8,6 +8,7 @@
 #include "field/mesh/mesh.h"
 #include "remesh/aabb_tree.h"
 
+#include <cstdint>
 #include <functional>
 
 #include <map>
@@ -17,6 +18,9 @@
 namespace rosy::remesh {
 
 using field::Vec3;
+
+/// One 64-bit key per directed edge a -> b (maps from an edge of the output to its face).
+inline uint64_t directedEdgeKey(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
 
 /// Removes the polygons marked in `gone` (one flag per polygon), keeping the order of the rest.
 void removeMarked(std::vector<std::vector<int>> &polygons, const std::vector<char> &gone);

@@ -1136,8 +1136,6 @@ void quadrangulations(const std::vector<int> &poly, std::vector<std::vector<std:
         }
 }
 
-/// A directed edge a -> b as one key (the maps from an output edge to its face).
-inline uint64_t directedEdgeKey(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
 
 /// Dislocation pairs. The position field leaves dislocations, each a triangle
 /// with a valence-5 corner where the lattice gains a row; two of opposite sign a

@@ -58,6 +58,20 @@ Shape shapeOf(const Polygons &polygons) {
     return s;
 }
 
+// Closed, oriented, manifold, with Euler characteristic chi.
+void expectSound(const Polygons &polygons, int chi) {
+    const Shape s = shapeOf(polygons);
+    EXPECT_TRUE(s.closedOriented);
+    EXPECT_TRUE(s.manifold);
+    EXPECT_EQ(s.chi(), chi);
+}
+
+bool uses(const Polygons &polygons, int v) {
+    for (const auto &f : polygons)
+        if (std::find(f.begin(), f.end(), v) != f.end()) return true;
+    return false;
+}
+
 // A cube, faces counter-clockwise from outside (bottom 0-3, top 4-7).
 Polygons cube() {
     return {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
@@ -88,15 +102,7 @@ TEST(DissolveValence2, NeighboursAlreadyJoinedMergeTheTwoFacesInsteadOfDoublingT
     // The union (1 3 0 4) leaves 3 and 4 with two neighbours each, which dissolve in
     // turn (a triangle goes each time): what is left must still be a closed,
     // oriented, manifold sphere without vertex 2.
-    auto uses = [](const Polygons &Q, int v) {
-        for (const auto &f : Q)
-            if (std::find(f.begin(), f.end(), v) != f.end()) return true;
-        return false;
-    };
-    const Shape after = shapeOf(P);
-    EXPECT_TRUE(after.closedOriented);
-    EXPECT_TRUE(after.manifold);
-    EXPECT_EQ(after.chi(), 2);
+    expectSound(P, 2);
     EXPECT_FALSE(uses(P, 2));
     EXPECT_EQ(repairs["valence2_faces_merged"], 1);
     // With at most three sides allowed the union (a quad) is refused: 2 stays, and
@@ -104,10 +110,7 @@ TEST(DissolveValence2, NeighboursAlreadyJoinedMergeTheTwoFacesInsteadOfDoublingT
     Polygons Q = {{0, 2, 1, 3}, {1, 2, 0, 4}, {0, 3, 1}, {0, 1, 4}};
     std::map<std::string, int> none;
     dissolveValence2(Q, 5, 3, none);
-    const Shape q = shapeOf(Q);
-    EXPECT_TRUE(q.closedOriented);
-    EXPECT_TRUE(q.manifold);
-    EXPECT_EQ(q.chi(), 2);
+    expectSound(Q, 2);
     EXPECT_TRUE(uses(Q, 2));
     EXPECT_EQ(none["valence2_faces_merged"], 0);
 }
@@ -120,10 +123,7 @@ TEST(SplitPinchedVertices, TwoTetrahedraSharingAVertexGetOneEach) {
     const int made = splitPinchedVertices(P, x, 0.1);
     EXPECT_EQ(made, 1);
     ASSERT_EQ(x.size(), 8u);
-    const Shape s = shapeOf(P);
-    EXPECT_TRUE(s.closedOriented);
-    EXPECT_TRUE(s.manifold);
-    EXPECT_EQ(s.chi(), 4); // two spheres
+    expectSound(P, 4); // two spheres
     // The first tetrahedron keeps 0, the second gets 7; each moved toward its own
     // fan by at most 0.1, so they no longer coincide.
     EXPECT_EQ(P[0][0], 0);
