@@ -262,4 +262,121 @@ int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::v
     return absorbed;
 }
 
+int collapseFoldedDiagonals(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                            const field::Mesh &input, const AabbTree &inputTree, double maxDiagonal,
+                            const std::function<bool(size_t)> &fixed) {
+    std::vector<std::vector<int>> facesOf(positions.size());
+    for (int f = 0; f < int(polygons.size()); ++f)
+        for (int v : polygons[size_t(f)]) facesOf[size_t(v)].push_back(f);
+    auto neighbours = [&](int v) {
+        std::vector<int> n;
+        for (int f : facesOf[size_t(v)]) {
+            const std::vector<int> &P = polygons[size_t(f)];
+            const size_t k = size_t(std::find(P.begin(), P.end(), v) - P.begin());
+            n.push_back(P[(k + 1) % P.size()]);
+            n.push_back(P[(k + P.size() - 1) % P.size()]);
+        }
+        std::sort(n.begin(), n.end());
+        n.erase(std::unique(n.begin(), n.end()), n.end());
+        return n;
+    };
+    std::vector<char> gone(polygons.size(), 0);
+    int collapsed = 0;
+    for (int f = 0; f < int(polygons.size()); ++f) {
+        const std::vector<int> P = polygons[size_t(f)];
+        const int n = int(P.size());
+        if (gone[size_t(f)] || n < 4 || facesInput(P, positions, input, inputTree)) continue;
+        // Corner pairs that are not neighbours, nearest first.
+        std::vector<std::pair<double, std::pair<int, int>>> pairs;
+        for (int i = 0; i < n; ++i)
+            for (int j = i + 2; j < n; ++j) {
+                if (i == 0 && j == n - 1) continue;
+                const double d = (positions[size_t(P[size_t(i)])] - positions[size_t(P[size_t(j)])]).norm();
+                if (d < maxDiagonal) pairs.push_back({d, {i, j}});
+            }
+        std::stable_sort(pairs.begin(), pairs.end(), [](const auto &x, const auto &y) { return x.first < y.first; });
+        for (const auto &[d, ij] : pairs) {
+            const auto [i, j] = ij;
+            const int a = P[size_t(i)], c = P[size_t(j)];
+            if (fixed(size_t(a)) && fixed(size_t(c))) continue;
+            const int keep = fixed(size_t(c)) ? c : a, drop = keep == a ? c : a;
+            // The two sides of P between its corners i and j, each from keep.
+            std::vector<int> side1 = {keep}, side2 = {keep};
+            for (int k = i + 1; k < j; ++k) side1.push_back(P[size_t(k)]);
+            for (int k = j + 1; k < i + n; ++k) side2.push_back(P[size_t(k % n)]);
+            std::vector<int> middles;
+            for (const std::vector<int> *side : {&side1, &side2})
+                if (side->size() == 2) middles.push_back((*side)[1]);
+            // Manifold: a and c share no face but P and no neighbour but the middles.
+            bool ok = true;
+            for (int g : facesOf[size_t(a)])
+                if (g != f && !gone[size_t(g)]) {
+                    const std::vector<int> &G = polygons[size_t(g)];
+                    if (std::find(G.begin(), G.end(), c) != G.end()) ok = false;
+                }
+            const std::vector<int> na = neighbours(a), nc = neighbours(c);
+            std::vector<int> common;
+            std::set_intersection(na.begin(), na.end(), nc.begin(), nc.end(), std::back_inserter(common));
+            for (int m : common)
+                if (std::find(middles.begin(), middles.end(), m) == middles.end()) ok = false;
+            if (!ok) continue;
+            // The faces at a or c other than P (turned away from the input before:
+            // P and these; after: the same faces and P's parts). Kept only if fewer.
+            std::vector<int> around;
+            for (int v : {a, c})
+                for (int g : facesOf[size_t(v)])
+                    if (g != f && !gone[size_t(g)]) around.push_back(g);
+            std::sort(around.begin(), around.end());
+            around.erase(std::unique(around.begin(), around.end()), around.end());
+            auto turnedAway = [&](const std::vector<int> &G) { return !facesInput(G, positions, input, inputTree); };
+            int awayBefore = 1;
+            for (int g : around) awayBefore += turnedAway(polygons[size_t(g)]);
+            // Apply, keeping what is needed to undo.
+            const Vec3 oldKeep = positions[size_t(keep)];
+            std::vector<std::pair<int, std::vector<int>>> before = {{f, P}};
+            for (int g : facesOf[size_t(drop)])
+                if (g != f) before.push_back({g, polygons[size_t(g)]});
+            if (!fixed(size_t(keep)))
+                positions[size_t(keep)] =
+                    inputTree.closest(0.5 * (positions[size_t(a)] + positions[size_t(c)])).point;
+            for (size_t b = 1; b < before.size(); ++b)
+                for (int &v : polygons[size_t(before[b].first)])
+                    if (v == drop) v = keep;
+            std::vector<std::vector<int>> parts;
+            for (std::vector<int> *side : {&side1, &side2})
+                if (side->size() >= 3) parts.push_back(*side);
+            int awayAfter = 0;
+            for (int g : around) awayAfter += turnedAway(polygons[size_t(g)]);
+            for (const std::vector<int> &part : parts) awayAfter += turnedAway(part);
+            if (awayAfter >= awayBefore) {
+                positions[size_t(keep)] = oldKeep;
+                for (auto &[g, G] : before) polygons[size_t(g)] = G;
+                continue;
+            }
+            // P becomes its first part (or goes); a second part is appended.
+            for (int v : P) {
+                auto &fv = facesOf[size_t(v)];
+                fv.erase(std::remove(fv.begin(), fv.end(), f), fv.end());
+            }
+            for (int g : facesOf[size_t(drop)]) facesOf[size_t(keep)].push_back(g);
+            facesOf[size_t(drop)].clear();
+            if (parts.empty()) gone[size_t(f)] = 1;
+            for (size_t k = 0; k < parts.size(); ++k) {
+                const int g = k == 0 ? f : int(polygons.size());
+                if (k == 0) {
+                    polygons[size_t(f)] = parts[0];
+                } else {
+                    polygons.push_back(parts[k]);
+                    gone.push_back(0);
+                }
+                for (int v : parts[k]) facesOf[size_t(v)].push_back(g);
+            }
+            ++collapsed;
+            break;
+        }
+    }
+    removeMarked(polygons, gone);
+    return collapsed;
+}
+
 } // namespace rosy::remesh

@@ -78,4 +78,20 @@ int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<V
 int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
                            const field::Mesh &input, const AabbTree &inputTree, int maxSides);
 
+/// A polygon of four or more sides still flipped after the two steps above, two of
+/// whose corners that are not neighbours lie closer than `maxDiagonal` (a quad
+/// folded along its short diagonal where the lattice crosses a thin part), loses
+/// that diagonal: its two ends become one vertex, at the input point nearest their
+/// midpoint (or where a `fixed` one is; both fixed: not done). The polygon splits
+/// at that vertex into its two sides; a side of two corners (the vertex and the
+/// corner between them) becomes one edge, whose two faces beyond now meet there, and
+/// a side of three or more stays a face. Done only where it keeps the mesh manifold
+/// (the two ends share no neighbour but the corners between them and no other
+/// face) and every face at the merged vertex then faces the input (facesInput);
+/// corners between them may be left with two neighbours (dissolveValence2 after).
+/// Faces in index order; returns how many diagonals were collapsed.
+int collapseFoldedDiagonals(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                            const field::Mesh &input, const AabbTree &inputTree, double maxDiagonal,
+                            const std::function<bool(size_t)> &fixed);
+
 } // namespace rosy::remesh

@@ -1458,6 +1458,9 @@ constexpr double kFarDistance = 0.4;
 constexpr int kFarRounds = 4;
 /// A fan triangle whose apex is closer than this many L to its base edge is not made.
 constexpr double kFanMinHeight = 0.1;
+/// A flipped polygon's diagonal shorter than this many L is collapsed
+/// (collapseFoldedDiagonals): a quad folded over a thin part (elk: 0.22 L).
+constexpr double kFoldedDiagonal = 0.5;
 
 /// Where the line through p along unit n meets the input surface nearest to p:
 /// marching out from p both ways in steps of L/20 up to 1.5 L, the closest input
@@ -2205,6 +2208,14 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         untangleFlipped(polygons, positions, mesh, tree, options.edgeLength,
                         [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; });
     result.repairs["flipped_triangles_absorbed"] = absorbFlippedTriangles(polygons, positions, mesh, tree, maxSides);
+    result.repairs["folded_diagonals_collapsed"] = collapseFoldedDiagonals(
+        polygons, positions, mesh, tree, kFoldedDiagonal * options.edgeLength,
+        [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; });
+    if (result.repairs["folded_diagonals_collapsed"] > 0) { // a corner between the ends may have two neighbours left
+        const int dissolvedBefore = result.repairs["valence2_dissolved_in_faces"];
+        dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
+        result.repairs["valence2_dissolved_in_faces"] += dissolvedBefore;
+    }
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);

@@ -189,5 +189,86 @@ TEST(AbsorbFlippedTriangles, AZeroAreaTriangleGoesIntoTheFaceAcrossItsLongestSid
     EXPECT_EQ(absorbFlippedTriangles(Q, y, strip, tree, 6), 0);
 }
 
+// A 3 × 3 grid of unit quads on the plane z = 0 (vertex j · 4 + i at (i, j)) whose
+// middle quad (5, 6, 10, 9) is folded: corner 5 pulled past corner 10, 0.14 away.
+// Its diagonal 5–10 collapses: the quad goes, 5 and 10 become one vertex at their
+// midpoint, the sides 5–6 / 6–10 and 5–9 / 9–10 become one edge each.
+TEST(CollapseFoldedDiagonals, AQuadFoldedAlongItsShortDiagonalGoes) {
+    const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {4, -1, 0}, {4, 4, 0}, {-1, 4, 0}},
+                                                          {{0, 1, 2}, {0, 2, 3}}, "plane");
+    const AabbTree tree(plane);
+    std::vector<Vec3> start;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) start.push_back(Vec3(i, j, 0));
+    start[5] = Vec3(2.1, 2.1, 0);
+    Polygons grid;
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) grid.push_back({j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i});
+    ASSERT_FALSE(facesInput(grid[4], start, plane, tree));
+    for (size_t f = 0; f < grid.size(); ++f)
+        if (f != 4) ASSERT_TRUE(facesInput(grid[f], start, plane, tree)) << f;
+    auto none = [](size_t) { return false; };
+    // Both ends fixed (corners of a crease): left alone; a diagonal longer than the limit too.
+    {
+        Polygons P = grid;
+        std::vector<Vec3> x = start;
+        EXPECT_EQ(collapseFoldedDiagonals(P, x, plane, tree, 0.5, [](size_t v) { return v == 5 || v == 10; }), 0);
+        EXPECT_EQ(collapseFoldedDiagonals(P, x, plane, tree, 0.1, none), 0);
+        EXPECT_EQ(P, grid);
+        EXPECT_EQ(x, start);
+    }
+    Polygons P = grid;
+    std::vector<Vec3> x = start;
+    EXPECT_EQ(collapseFoldedDiagonals(P, x, plane, tree, 0.5, none), 1);
+    ASSERT_EQ(P.size(), 8u);
+    EXPECT_FALSE(uses(P, 10));
+    EXPECT_NEAR((x[5] - Vec3(2.05, 2.05, 0)).norm(), 0.0, 1e-12);
+    for (const auto &f : P) EXPECT_TRUE(facesInput(f, x, plane, tree));
+    // An open patch: each directed edge in one face, the corners at the merged
+    // vertex (interior) one cycle, χ still 1.
+    const Shape s = shapeOf(P);
+    std::map<int, int> nextAfter;
+    for (const auto &f : P)
+        for (size_t k = 0; k < f.size(); ++k)
+            if (f[k] == 5) EXPECT_TRUE(nextAfter.emplace(f[(k + f.size() - 1) % f.size()], f[(k + 1) % f.size()]).second);
+    ASSERT_EQ(nextAfter.size(), 6u); // the three other quads at 5 and the three at 10
+    int steps = 0;
+    for (int w = nextAfter.begin()->first; steps < 7; ++steps) {
+        ASSERT_TRUE(nextAfter.count(w));
+        w = nextAfter[w];
+        if (w == nextAfter.begin()->first) break;
+    }
+    EXPECT_EQ(steps + 1, 6);
+    EXPECT_EQ(s.usedVertices, 15);
+    EXPECT_EQ(s.edges, 22);
+    EXPECT_EQ(s.chi(), 1);
+    std::set<std::pair<int, int>> directed;
+    for (const auto &f : P)
+        for (size_t k = 0; k < f.size(); ++k) EXPECT_TRUE(directed.insert({f[k], f[(k + 1) % f.size()]}).second);
+    // The end that is fixed is the one kept, where it is.
+    Polygons Q = grid;
+    std::vector<Vec3> y = start;
+    EXPECT_EQ(collapseFoldedDiagonals(Q, y, plane, tree, 0.5, [](size_t v) { return v == 10; }), 1);
+    EXPECT_FALSE(uses(Q, 5));
+    EXPECT_EQ(y[10], start[10]);
+    for (const auto &f : Q) EXPECT_TRUE(facesInput(f, y, plane, tree));
+}
+
+// A folded quad whose two ends have another common neighbour (a triangle 5–10–x
+// beside it would be doubled) is left alone: the mesh must stay manifold.
+TEST(CollapseFoldedDiagonals, EndsWithAnotherCommonNeighbourStay) {
+    const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {4, -1, 0}, {4, 4, 0}, {-1, 4, 0}},
+                                                          {{0, 1, 2}, {0, 2, 3}}, "plane");
+    const AabbTree tree(plane);
+    // Folded quad (0, 1, 2, 3) with 0 near 2, and triangles (0, 4, 2)... sharing 4.
+    const std::vector<Vec3> x = {{1.1, 1.1, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 2, 0}};
+    const Polygons start = {{0, 1, 2, 3}, {2, 4, 0}};
+    ASSERT_FALSE(facesInput(start[0], x, plane, tree));
+    Polygons P = start;
+    std::vector<Vec3> y = x;
+    EXPECT_EQ(collapseFoldedDiagonals(P, y, plane, tree, 0.5, [](size_t) { return false; }), 0);
+    EXPECT_EQ(P, start);
+}
+
 } // namespace
 } // namespace rosy::remesh
