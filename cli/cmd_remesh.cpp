@@ -34,6 +34,7 @@ struct RemeshCliOptions {
     std::string imagePath; ///< --image: a picture of the remeshed surface (raster or .svg)
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
     std::string separatrices = "off";
+    std::string thinParts = "on";
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
     double featureAngle = 50; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
@@ -132,6 +133,8 @@ void runRemesh(const RemeshCliOptions &opt) {
                          "use .obj, .off or .ply (STL has triangles only)");
     if (opt.separatrices != "on" && opt.separatrices != "off")
         throw InputError(FileLoc{"--separatrices"}, "'" + opt.separatrices + "' is not on or off", "use on or off");
+    if (opt.thinParts != "on" && opt.thinParts != "off")
+        throw InputError(FileLoc{"--thin-parts"}, "'" + opt.thinParts + "' is not on or off", "use on or off");
     if (opt.symmetry != 4 && opt.symmetry != 6)
         throw InputError(FileLoc{"--symmetry"}, "remeshing needs N = 4 (quads) or 6 (triangles), got " +
                                                     std::to_string(opt.symmetry),
@@ -198,6 +201,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     remesh::RemeshOptions ropt;
     ropt.edgeLength = edgeLength;
     ropt.separatrices = opt.separatrices == "on";
+    ropt.thinParts = opt.thinParts == "on";
     ropt.scaleStrength = opt.adaptiveScale;
     ropt.anisotropicScale = opt.anisotropicScale;
     ropt.featureAngleDeg = featureAngle;
@@ -264,7 +268,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("method", "position-field");
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
-        json.field("separatrices", ropt.separatrices).field("adaptive_scale", ropt.scaleStrength);
+        json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts).field("adaptive_scale", ropt.scaleStrength);
         json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg).endObject();
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
         json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
@@ -299,6 +303,11 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         ->capture_default_str();
     sub->add_option("--separatrices", opt->separatrices,
                     "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
+        ->capture_default_str();
+    sub->add_option("--thin-parts", opt->thinParts,
+                    "on (default): a finer lattice where the surface is thinner than the edge length or faces "
+                    "another part across a narrower gap (a tail, a finger, a tail on the body), down to a quarter "
+                    "of it, so such parts are not cut off; off: one edge length everywhere (docs/remeshing.md, When the topology is not kept, step 6)")
         ->capture_default_str();
     sub->add_option("--adaptive-scale", opt->adaptiveScale,
                     "0 (default): edges of length L everywhere; x in (0, 2]: spacing L exp(x phi), phi absorbing the "

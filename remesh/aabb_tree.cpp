@@ -109,4 +109,53 @@ ClosestPoint AabbTree::closest(const Vec3 &p, int hint) const {
     return best;
 }
 
+double AabbTree::firstHit(const Vec3 &o, const Vec3 &d, double tMin, double tMax) const {
+    if (m_nodes.empty()) return tMax;
+    const Vec3 inv(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
+    // Entry distance of the ray into a box (slabs), or +inf if it misses before `best`.
+    auto enter = [&](const Node &n, double best) {
+        double t0 = tMin, t1 = best;
+        for (int k = 0; k < 3; ++k) {
+            double a = (n.lo[k] - o[k]) * inv[k], b = (n.hi[k] - o[k]) * inv[k];
+            if (a > b) std::swap(a, b);
+            if (a != a || b != b) { // d[k] == 0 with o on a slab plane: inside iff within it
+                if (o[k] < n.lo[k] || o[k] > n.hi[k]) return std::numeric_limits<double>::infinity();
+                continue;
+            }
+            t0 = std::max(t0, a);
+            t1 = std::min(t1, b);
+        }
+        return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
+    };
+    double best = tMax;
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node &node = m_nodes[size_t(stack[--top])];
+        if (enter(node, best) >= best) continue;
+        if (node.left < 0) {
+            for (int k = node.begin; k < node.end; ++k) {
+                const auto &f = m_tris[size_t(m_order[size_t(k)])];
+                const Vec3 e1 = m_points[f[1]] - m_points[f[0]], e2 = m_points[f[2]] - m_points[f[0]];
+                const Vec3 pv = d.cross(e2);
+                const double det = e1.dot(pv);
+                if (std::abs(det) < 1e-300) continue;
+                const Vec3 tv = o - m_points[f[0]];
+                const double u = tv.dot(pv) / det;
+                if (u < 0 || u > 1) continue;
+                const Vec3 qv = tv.cross(e1);
+                const double v = d.dot(qv) / det;
+                if (v < 0 || u + v > 1) continue;
+                const double t = e2.dot(qv) / det;
+                if (t > tMin && t < best) best = t;
+            }
+            continue;
+        }
+        stack[top++] = node.left;
+        stack[top++] = node.right;
+    }
+    return best;
+}
+
 } // namespace rosy::remesh

@@ -37,6 +37,10 @@ public:
     ClosestPoint closest(const Vec3 &p, int hint = -1) const;
     int nTriangles() const { return int(m_tris.size()); }
 
+    /// Distance along the ray o + t d (d unit) to the first triangle it crosses with
+    /// tMin < t < tMax, or tMax if none (Möller–Trumbore, both sides).
+    double firstHit(const Vec3 &o, const Vec3 &d, double tMin, double tMax) const;
+
 private:
     struct Node {
         Vec3 lo, hi;

@@ -332,6 +332,93 @@ constexpr double kMaxEdge = 0.5;
 constexpr double kMaxLongEdge = 1.0;
 /// Feature curves shorter than this many L are ignored by the remesher.
 constexpr double kMinFeatureLength = 2.0;
+/// Thin parts (RemeshOptions::thinParts): the lattice spacing where the surface is
+/// thinner than about L, or faces another part across a gap that narrow, is this
+/// fraction of the thickness (a tube of diameter D then has about four edges round
+/// it), never below kMinThinSpacing L, and grows by at most kThinGrading times the
+/// distance away from there.
+constexpr double kThinSpacing = 0.75;
+constexpr double kMinThinSpacing = 0.25;
+constexpr double kThinGrading = 0.25;
+/// A connected thin spot of less area than this many L² is not a part (thinPartSpacing).
+constexpr double kMinThinArea = 1.0;
+/// The four side rays of the thickness measure are tilted this much from the normal.
+constexpr double kThinRayTilt = 30.0 * M_PI / 180.0;
+
+/// The spacing cap of every input vertex for thin parts, at most 2 L (the largest
+/// spacing, so no cap): kThinSpacing times the nearer of the surface's distances
+/// inward (the part's thickness) and outward (a gap to another part or a fold),
+/// each the median of five rays (along the normal and tilted kThinRayTilt to four
+/// sides); connected spots thinner than L of less than kMinThinArea L² dropped;
+/// then graded along the edges (each vertex at most its neighbour's plus
+/// kThinGrading times their distance; Gauss–Seidel in vertex order until nothing
+/// changes, so the result is fixed). `thin` counts the vertices whose own cap is
+/// below L.
+std::vector<double> thinPartSpacing(const field::TangentFrames &frames, const AabbTree &surface, double L,
+                                    int &thin) {
+    const field::Mesh &mesh = frames.mesh();
+    const int n = mesh.nVertices();
+    const double none = 2.0 * L, tMin = 1e-4 * L, reach = L / kThinSpacing;
+    std::vector<double> cap(size_t(n), none);
+    parallelFor(0, n, [&](int64_t v) {
+        const Vec3 p = mesh.position(int(v)), nv = frames.normal(int(v));
+        if (!(nv.squaredNorm() > 0.5)) return;
+        // The median of five rays, along ±n and tilted 30° toward four tangent
+        // directions, so that one ray grazing a neighbouring face does not count.
+        const Vec3 t1 = perpendicularUnit(nv), t2 = nv.cross(t1);
+        const double c = std::cos(kThinRayTilt), sn = std::sin(kThinRayTilt);
+        auto median = [&](const Vec3 &axis) {
+            std::array<double, 5> hit;
+            hit[0] = surface.firstHit(p, axis, tMin, reach);
+            const Vec3 side[4] = {t1, -t1, t2, -t2};
+            for (int k = 0; k < 4; ++k) hit[size_t(k) + 1] = surface.firstHit(p, c * axis + sn * side[k], tMin, reach);
+            std::nth_element(hit.begin(), hit.begin() + 2, hit.end());
+            return hit[2];
+        };
+        const double t = std::min(median(-nv), median(nv));
+        if (t < reach) cap[size_t(v)] = std::max(kMinThinSpacing * L, kThinSpacing * t);
+    }, 1024);
+    // A thin spot smaller than kMinThinArea L² (one or two vertices where a ray
+    // grazes a fold, or where two parts touch, which no spacing resolves) is not a
+    // part: its caps are dropped.
+    {
+        std::vector<double> area(size_t(n), 0.0);
+        for (int f = 0; f < mesh.nFaces(); ++f)
+            for (int v : mesh.face(f)) area[size_t(v)] += mesh.faceArea(f) / 3.0;
+        std::vector<int> component(size_t(n), -1), queue;
+        for (int root = 0; root < n; ++root) {
+            if (component[size_t(root)] >= 0 || !(cap[size_t(root)] < L)) continue;
+            queue.assign(1, root);
+            component[size_t(root)] = root;
+            double sum = 0;
+            for (size_t k = 0; k < queue.size(); ++k) {
+                const int v = queue[k];
+                sum += area[size_t(v)];
+                for (const int *it = mesh.outgoingBegin(v); it != mesh.outgoingEnd(v); ++it)
+                    for (int w : {mesh.head(*it), mesh.tail(field::Mesh::prev(*it))})
+                        if (component[size_t(w)] < 0 && cap[size_t(w)] < L) {
+                            component[size_t(w)] = root;
+                            queue.push_back(w);
+                        }
+            }
+            if (sum < kMinThinArea * L * L)
+                for (int v : queue) cap[size_t(v)] = none;
+        }
+    }
+    thin = int(std::count_if(cap.begin(), cap.end(), [&](double c) { return c < L; }));
+    if (thin == 0) return cap;
+    for (int sweep = 0; sweep < 1000; ++sweep) {
+        bool changed = false;
+        for (int v = 0; v < n; ++v)
+            for (const int *it = mesh.outgoingBegin(v); it != mesh.outgoingEnd(v); ++it) {
+                const int w = mesh.head(*it);
+                const double c = cap[size_t(w)] + kThinGrading * (mesh.position(v) - mesh.position(w)).norm();
+                if (c < cap[size_t(v)]) cap[size_t(v)] = c, changed = true;
+            }
+        if (!changed) break;
+    }
+    return cap;
+}
 
 /// A vertex made by subdivision: the midpoint of a and b; odd: b's q turned by an
 /// odd rotation against a's (N = 4), so b's two scale functions are swapped.
@@ -348,7 +435,8 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
                   const std::vector<std::pair<int, Vec3>> &pinFaces, long long maxVertices,
                   const field::FeatureCurves *curves,
                   const std::function<void(const Level &, const std::vector<std::array<int, 3>> &)> &atInput,
-                  std::vector<Midpoint> &midpoints, int &subdivisions, int &longEdgesSplit) {
+                  std::vector<Midpoint> &midpoints, int &subdivisions, int &longEdgesSplit,
+                  std::vector<double> &sizing) {
     const field::Mesh &mesh = frames.mesh();
     const int nV0 = mesh.nVertices();
     Level L;
@@ -439,6 +527,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             L.boundary.push_back(fe != featureEdge.end() ? fe->second : 0);
         }
         midpoints.push_back({a, b, lat.nSym == 4 && (compatIndex4(L.q[a], L.q[b], L.n[b]) & 1)}); // (q is near a's)
+        sizing.push_back(0.5 * (sizing[size_t(a)] + sizing[size_t(b)]));
         mid.emplace(key, id);
         return id;
     };
@@ -482,15 +571,19 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
     // 4.6 L), jump over lattice points and leave holes in the output. Such edges are
     // bisected, each triangle with a marked edge also at its longest edge (so new
     // angles stay at least half the old ones) and split conformingly into 2, 3 or 4,
-    // until every edge is at most kMaxLongEdge L.
+    // until every edge is at most kMaxLongEdge L, and at most the spacing of thin
+    // parts (`sizing`) where that is smaller.
     longEdgesSplit = 0;
-    const double maxLong2 = (kMaxLongEdge * lat.s) * (kMaxLongEdge * lat.s);
     auto length2 = [&](int a, int b) { return (L.p[a] - L.p[b]).squaredNorm(); };
+    auto tooLong = [&](int a, int b) {
+        const double m = std::min({kMaxLongEdge * lat.s, sizing[size_t(a)], sizing[size_t(b)]});
+        return length2(a, b) > m * m;
+    };
     for (int round = 0;; ++round) {
         std::unordered_set<long long> marked;
         for (const auto &t : tris)
             for (int k = 0; k < 3; ++k)
-                if (length2(t[k], t[(k + 1) % 3]) > maxLong2) marked.insert(edgeKey(t[k], t[(k + 1) % 3]));
+                if (tooLong(t[k], t[(k + 1) % 3])) marked.insert(edgeKey(t[k], t[(k + 1) % 3]));
         if (marked.empty()) break;
         if (round >= 40 || double(L.p.size() + marked.size()) > double(maxVertices))
             throw InputError(FileLoc{"--edge"},
@@ -613,7 +706,7 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
 /// (2 nV0: φ_q, φ_{n×q} of vertex v at 2v, 2v + 1), carried to the subdivision's
 /// vertices (the mean of their edge's ends, in the order they were made).
 void finestSpacings(Level &L, std::vector<double> phi, std::vector<double> phiA, const std::vector<Midpoint> &midpoints,
-                    const Lattice &lat, double scaleStrength, double anisotropy) {
+                    const Lattice &lat, double scaleStrength, double anisotropy, const std::vector<double> &sizing) {
     const bool aniso = anisotropy > 0 && lat.nSym == 4;
     for (const Midpoint &m : midpoints) {
         const size_t a = size_t(m.a), b = size_t(m.b), pb = aniso && m.odd ? 1 : 0;
@@ -636,9 +729,9 @@ void finestSpacings(Level &L, std::vector<double> phi, std::vector<double> phiA,
             cells += L.area[v] / (L.s[v] * L.s2[v]), area += L.area[v];
         }
         const double k = cells > 0 && area > 0 ? std::sqrt(cells / area) : 1.0;
-        for (int v = 0; v < nV; ++v) {
-            L.s[v] = lat.s * std::clamp(k * L.s[v], 0.5, 2.0);
-            L.s2[v] = lat.s * std::clamp(k * L.s2[v], 0.5, 2.0);
+        for (int v = 0; v < nV; ++v) { // thin parts' caps last (they are at most 2 L)
+            L.s[v] = std::min(lat.s * std::clamp(k * L.s[v], 0.5, 2.0), sizing[size_t(v)]);
+            L.s2[v] = std::min(lat.s * std::clamp(k * L.s2[v], 0.5, 2.0), sizing[size_t(v)]);
         }
     }
 }
@@ -1769,6 +1862,14 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     std::vector<std::vector<std::vector<int>>> classesOf; // colour classes per level
     std::vector<SweepPlan> plans;                         // per level (N = 4)
     std::optional<AabbTree> surface;
+    surface.emplace(mesh);
+    // Spacing caps of thin parts, per input vertex; finestLevel carries them to its
+    // own vertices.
+    int thinVertices = 0;
+    std::vector<double> sizing = options.thinParts
+                                     ? thinPartSpacing(frames, *surface, lat.s, thinVertices)
+                                     : std::vector<double>(size_t(mesh.nVertices()), 2.0 * lat.s);
+    result.repairs["thin_part_vertices"] = thinVertices;
     {
         tbb::task_group scaleSolve;
         auto startScaleSolve = [&](const Level &in, const std::vector<std::array<int, 3>> &tris) {
@@ -1784,7 +1885,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         try {
             levels.push_back(finestLevel(frames, field, lat, pinFaces, options.maxVertices,
                                          curves.empty() ? nullptr : &curves, startScaleSolve, midpoints, subdivisions,
-                                         longEdgesSplit));
+                                         longEdgesSplit, sizing));
             while (levels.back().size() > 64 && levels.size() < 40) {
                 Level next = coarsen(levels.back());
                 if (next.size() > 0.95 * levels.back().size()) {
@@ -1797,7 +1898,6 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                 classesOf.push_back(colourClasses(L));
                 plans.push_back(lat.nSym == 4 ? planSweeps(L, classesOf.back()) : SweepPlan{});
             }
-            surface.emplace(mesh);
         } catch (...) {
             scaleSolve.wait(); // it reads this function's locals
             throw;
@@ -1807,7 +1907,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["input_subdivisions"] = subdivisions;
     result.repairs["long_edges_split"] = longEdgesSplit;
     finestSpacings(levels[0], std::move(phi), std::move(phiA), midpoints, lat, options.scaleStrength,
-                   options.anisotropicScale);
+                   options.anisotropicScale, sizing);
     for (size_t l = 0; l + 1 < levels.size(); ++l) coarsenSpacings(levels[l], levels[l + 1]);
     result.timingsMs["hierarchy"] = msSince(t0);
 

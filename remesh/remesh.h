@@ -69,8 +69,14 @@ struct RemeshOptions {
     /// L on a ragged boundary, nor one touching another at a vertex). The field
     /// should be aligned to the same curves (FieldSpec::featureAngleDeg). 0: off.
     double featureAngleDeg = 0;
+    /// Parts thinner than about L and gaps narrower than it (a tail, a finger, a
+    /// tail lying on the body; measured by rays from each input vertex along its
+    /// normal, both ways) get a finer lattice there: spacing 0.75 × the thickness,
+    /// at least L / 4, growing back to L with distance (docs/remeshing.md, "When
+    /// the topology is not kept", step 6). false: L everywhere, as before 2026-12-04.
+    bool thinParts = true;
     /// The input is subdivided until its mean edge is at most L / 2, then edges
-    /// longer than L are bisected (repairs["long_edges_split"]); more vertices
+    /// longer than L (or than a thin part's spacing) are bisected (repairs["long_edges_split"]); more vertices
     /// than this are refused (InputError: the edge length is too short).
     long long maxVertices = 20'000'000;
 };

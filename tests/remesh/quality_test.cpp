@@ -47,6 +47,26 @@ TEST(AabbTree, ClosestPointMatchesDenseSampling) {
     }
 }
 
+// Rays through the cube [-1, 1]^3 (makeCube, triangulated): from its centre along d
+// the first face is at 1 / max |d_i|; from outside, the near face, or past tMin the
+// far one; nothing within tMax, or a ray that misses, gives tMax.
+TEST(AabbTree, FirstHitAlongARayMatchesTheCubesFaces) {
+    const Mesh cube = field::makeCube(4);
+    const AabbTree tree(cube);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> g;
+    for (int trial = 0; trial < 50; ++trial) {
+        const Vec3 d = Vec3(g(rng), g(rng), g(rng)).normalized();
+        EXPECT_NEAR(tree.firstHit(Vec3::Zero(), d, 0.0, 10.0), 1.0 / d.cwiseAbs().maxCoeff(), 1e-12) << d.transpose();
+    }
+    const Vec3 below(0.3, -0.2, -3.0), up(0, 0, 1);
+    EXPECT_NEAR(tree.firstHit(below, up, 1e-9, 10.0), 2.0, 1e-12);
+    EXPECT_NEAR(tree.firstHit(below, up, 2.5, 10.0), 4.0, 1e-12);
+    EXPECT_EQ(tree.firstHit(below, up, 1e-9, 1.5), 1.5);
+    EXPECT_EQ(tree.firstHit(Vec3(3, 3, 3), Vec3(1, 0, 0), 1e-9, 10.0), 10.0);
+    EXPECT_EQ(tree.firstHit(below, -up, 1e-9, 10.0), 10.0);
+}
+
 struct Fixture {
     Mesh mesh = field::makeCube(4);
     field::TangentFrames frames{mesh};

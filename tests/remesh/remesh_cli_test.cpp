@@ -66,18 +66,40 @@ TEST(RemeshCli, SceneToObjWithReport) {
 }
 
 // A tube thinner than the edge length (a torus of minor radius 0.01 at L = 1 % of
-// its diagonal, 0.028): the lattice cannot follow it. The mesh is written, but the
-// command says that and where (docs/remeshing.md, "When the topology is not kept");
-// at minor radius 0.005 nothing is left, which is an error and writes nothing.
+// its diagonal, 0.028). By default the lattice is finer there (--thin-parts on,
+// docs/remeshing.md, "Thin parts"): the tube is kept, closed with χ 0, its edges
+// about half of L. With --thin-parts off the lattice cannot follow it: the mesh is
+// written, but the command says that and where ("When the topology is not kept").
+// At minor radius 0.002 not even a quarter of L goes round it: nothing is left,
+// which is an error and writes nothing.
 TEST(RemeshCli, PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError) {
     const fs::path dir = workDir("thin");
     std::ofstream(dir / "thin.yaml") << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.01, nu: 256, nv: 16}\n";
-    const CliRun r = runRosyhatch(dir, "remesh thin.yaml -o thin.obj --report thin.json --quiet", "thin");
+    {
+        const CliRun r = runRosyhatch(dir, "remesh thin.yaml -o kept.obj --report kept.json --quiet", "kept");
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+        const nlohmann::json j = nlohmann::json::parse(slurp(dir / "kept.json"));
+        EXPECT_TRUE(j["options"]["thin_parts"].get<bool>());
+        EXPECT_GT(j["repairs"]["thin_part_vertices"].get<int>(), 0);
+        const auto &q = j["quality"];
+        EXPECT_TRUE(q["topology"]["kept"].get<bool>());
+        EXPECT_EQ(q["topology"]["euler_characteristic"].get<int>(), 0);
+        EXPECT_TRUE(q["topology"]["closed"].get<bool>());
+        // 0.75 × the tube's diameter 0.02 is 0.53 L: four edges round the tube.
+        EXPECT_LT(q["edge_length"]["mean_over_L"].get<double>(), 0.65);
+        EXPECT_GT(q["edge_length"]["mean_over_L"].get<double>(), 0.4);
+        EXPECT_LT(q["distance_pct_of_diagonal"]["input_to_output"].get<double>(), 0.5);
+        EXPECT_LT(q["distance_pct_of_diagonal"]["output_to_input"].get<double>(), 0.5);
+    }
+    const CliRun r = runRosyhatch(dir, "remesh thin.yaml -o thin.obj --report thin.json --thin-parts off --quiet", "thin");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("thin.obj: warning: the remesh does not keep the input's topology ("), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("a part of the input is missing: ("), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--edge 0.5%"), std::string::npos) << r.err;
     const nlohmann::json j = nlohmann::json::parse(slurp(dir / "thin.json"));
+    EXPECT_FALSE(j["options"]["thin_parts"].get<bool>());
+    EXPECT_EQ(j["repairs"]["thin_part_vertices"].get<int>(), 0);
     const auto &t = j["quality"]["topology"];
     EXPECT_FALSE(t["kept"].get<bool>());
     // The torus has χ 0; whatever is lost, the places named lie on the tube (within
@@ -91,13 +113,16 @@ TEST(RemeshCli, PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError) {
     }
     const auto &far = j["quality"]["distance_pct_of_diagonal"]["input_to_output_at"];
     EXPECT_NEAR(std::hypot(far[0].get<double>(), far[1].get<double>()), 1.0, 0.02) << far;
+    const CliRun bad = runRosyhatch(dir, "remesh thin.yaml -o bad.obj --thin-parts maybe --quiet", "bad");
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
+    EXPECT_NE(bad.err.find("--thin-parts: error: 'maybe' is not on or off"), std::string::npos) << bad.err;
 
     std::ofstream(dir / "thinner.yaml")
-        << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.005, nu: 256, nv: 16}\n";
+        << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.002, nu: 256, nv: 16}\n";
     std::ofstream(dir / "thinner.obj") << "previous\n";
     const CliRun e = runRosyhatch(dir, "remesh thinner.yaml -o thinner.obj --report thinner.json --quiet", "thinner");
     EXPECT_EQ(e.exitCode, 2) << e.err;
-    EXPECT_NE(e.err.find("--edge: error: at edge length 0.02843 (1%) the remesh has no face"), std::string::npos)
+    EXPECT_NE(e.err.find("--edge: error: at edge length 0.02834 (1%) the remesh has no face"), std::string::npos)
         << e.err;
     EXPECT_EQ(slurp(dir / "thinner.obj"), "previous\n");
     EXPECT_FALSE(fs::exists(dir / "thinner.json"));
