@@ -245,7 +245,8 @@ void runRemesh(const RemeshCliOptions &opt) {
     }
     if (quality.topologyLost() || quality.partsMissing()) warnThinParts(opt.output, quality);
     std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
-    for (const char *stage : {"hierarchy", "position", "extraction", "distance_repair"}) // the last is part of extraction
+    // thin_parts is part of the hierarchy, distance_repair of the extraction
+    for (const char *stage : {"hierarchy", "thin_parts", "position", "extraction", "distance_repair"})
         if (result.timingsMs.count(stage)) ms.emplace_back(stage, result.timingsMs.at(stage));
     ms.emplace_back("remesh", remeshMs);
     ms.emplace_back("quality", qualityMs);

@@ -19,6 +19,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <queue>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -349,10 +350,9 @@ constexpr double kThinRayTilt = 30.0 * M_PI / 180.0;
 /// spacing, so no cap): kThinSpacing times the nearer of the surface's distances
 /// inward (the part's thickness) and outward (a gap to another part or a fold),
 /// each the median of five rays (along the normal and tilted kThinRayTilt to four
-/// sides); connected spots thinner than L of less than kMinThinArea L² dropped;
+/// sides; none where the one along the normal finds nothing within reach); connected spots thinner than L of less than kMinThinArea L² dropped;
 /// then graded along the edges (each vertex at most its neighbour's plus
-/// kThinGrading times their distance; Gauss–Seidel in vertex order until nothing
-/// changes, so the result is fixed). `thin` counts the vertices whose own cap is
+/// kThinGrading times their distance, by Dijkstra's search: the least such caps). `thin` counts the vertices whose own cap is
 /// below L.
 std::vector<double> thinPartSpacing(const field::TangentFrames &frames, const AabbTree &surface, double L,
                                     int &thin) {
@@ -364,12 +364,15 @@ std::vector<double> thinPartSpacing(const field::TangentFrames &frames, const Aa
         const Vec3 p = mesh.position(int(v)), nv = frames.normal(int(v));
         if (!(nv.squaredNorm() > 0.5)) return;
         // The median of five rays, along ±n and tilted 30° toward four tangent
-        // directions, so that one ray grazing a neighbouring face does not count.
+        // directions, so that one ray grazing a neighbouring face does not count;
+        // the four only where the one along ±n hits within reach (most vertices
+        // are not thin: one ray each way there).
         const Vec3 t1 = perpendicularUnit(nv), t2 = nv.cross(t1);
         const double c = std::cos(kThinRayTilt), sn = std::sin(kThinRayTilt);
         auto median = [&](const Vec3 &axis) {
             std::array<double, 5> hit;
             hit[0] = surface.firstHit(p, axis, tMin, reach);
+            if (!(hit[0] < reach)) return reach;
             const Vec3 side[4] = {t1, -t1, t2, -t2};
             for (int k = 0; k < 4; ++k) hit[size_t(k) + 1] = surface.firstHit(p, c * axis + sn * side[k], tMin, reach);
             std::nth_element(hit.begin(), hit.begin() + 2, hit.end());
@@ -407,15 +410,24 @@ std::vector<double> thinPartSpacing(const field::TangentFrames &frames, const Aa
     }
     thin = int(std::count_if(cap.begin(), cap.end(), [&](double c) { return c < L; }));
     if (thin == 0) return cap;
-    for (int sweep = 0; sweep < 1000; ++sweep) {
-        bool changed = false;
-        for (int v = 0; v < n; ++v)
-            for (const int *it = mesh.outgoingBegin(v); it != mesh.outgoingEnd(v); ++it) {
-                const int w = mesh.head(*it);
-                const double c = cap[size_t(w)] + kThinGrading * (mesh.position(v) - mesh.position(w)).norm();
-                if (c < cap[size_t(v)]) cap[size_t(v)] = c, changed = true;
+    // Dijkstra from every capped vertex at once: the smallest cap first (ties by
+    // vertex), each neighbour offered the cap plus kThinGrading times the edge.
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> front;
+    for (int v = 0; v < n; ++v)
+        if (cap[size_t(v)] < none) front.push({cap[size_t(v)], v});
+    while (!front.empty()) {
+        const auto [c, v] = front.top();
+        front.pop();
+        if (c > cap[size_t(v)]) continue; // superseded
+        for (const int *it = mesh.outgoingBegin(v); it != mesh.outgoingEnd(v); ++it)
+            for (int w : {mesh.head(*it), mesh.tail(field::Mesh::prev(*it))}) {
+                const double cw = c + kThinGrading * (mesh.position(v) - mesh.position(w)).norm();
+                if (cw < cap[size_t(w)]) {
+                    cap[size_t(w)] = cw;
+                    front.push({cw, w});
+                }
             }
-        if (!changed) break;
     }
     return cap;
 }
@@ -589,7 +601,8 @@ Level finestLevel(const field::TangentFrames &frames, const field::RosyField &fi
             throw InputError(FileLoc{"--edge"},
                              "the edge length is too short for this mesh: the remesher would need more than " +
                                  std::to_string(maxVertices) + " vertices",
-                             "give a longer --edge");
+                             "give a longer --edge (or --thin-parts off, whose finer lattice in thin parts "
+                             "needs more)");
         // The longest edge of each triangle (ties by key, so the choice is fixed).
         auto longest = [&](const std::array<int, 3> &t) {
             int best = 0;
@@ -1866,10 +1879,12 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     // Spacing caps of thin parts, per input vertex; finestLevel carries them to its
     // own vertices.
     int thinVertices = 0;
+    const auto tt = Clock::now();
     std::vector<double> sizing = options.thinParts
                                      ? thinPartSpacing(frames, *surface, lat.s, thinVertices)
                                      : std::vector<double>(size_t(mesh.nVertices()), 2.0 * lat.s);
     result.repairs["thin_part_vertices"] = thinVertices;
+    result.timingsMs["thin_parts"] = msSince(tt); // part of the hierarchy's
     {
         tbb::task_group scaleSolve;
         auto startScaleSolve = [&](const Level &in, const std::vector<std::array<int, 3>> &tris) {
