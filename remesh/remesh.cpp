@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "field/features.h"
+#include "field/laplacian.h"
 #include "field/mesh/union_find.h"
 #include "remesh/aabb_tree.h"
 #include "remesh/polygon_ops.h"
@@ -385,9 +386,7 @@ std::vector<double> thinPartSpacing(const field::TangentFrames &frames, const Aa
     // grazes a fold, or where two parts touch, which no spacing resolves) is not a
     // part: its caps are dropped.
     {
-        std::vector<double> area(size_t(n), 0.0);
-        for (int f = 0; f < mesh.nFaces(); ++f)
-            for (int v : mesh.face(f)) area[size_t(v)] += mesh.faceArea(f) / 3.0;
+        const Eigen::VectorXd area = field::vertexAreas(mesh);
         std::vector<int> component(size_t(n), -1), queue;
         for (int root = 0; root < n; ++root) {
             if (component[size_t(root)] >= 0 || !(cap[size_t(root)] < L)) continue;
@@ -396,7 +395,7 @@ std::vector<double> thinPartSpacing(const field::TangentFrames &frames, const Aa
             double sum = 0;
             for (size_t k = 0; k < queue.size(); ++k) {
                 const int v = queue[k];
-                sum += area[size_t(v)];
+                sum += area[v];
                 for (const int *it = mesh.outgoingBegin(v); it != mesh.outgoingEnd(v); ++it)
                     for (int w : {mesh.head(*it), mesh.tail(field::Mesh::prev(*it))})
                         if (component[size_t(w)] < 0 && cap[size_t(w)] < L) {
@@ -2288,16 +2287,22 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["faces_split"] = split;
     mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
     dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
+    // A later step that leaves vertices with two neighbours dissolves them too; the
+    // count (which dissolveValence2 sets) then adds up over the passes.
+    auto dissolveValence2Again = [&] {
+        const int dissolvedBefore = result.repairs["valence2_dissolved_in_faces"];
+        dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
+        result.repairs["valence2_dissolved_in_faces"] += dissolvedBefore;
+    };
     if (result.nSym == 4) {
         const auto tc = Clock::now();
         cancelDislocationPairs(polygons, positions, result.repairs);
         result.timingsMs["dislocation_pairs"] = msSince(tc);
         // A re-cut can leave a vertex between two quads that share both its edges
         // (homer: 2 with features, 1 at μ = 0): dissolved like the others.
-        const int dissolvedBefore = result.repairs["valence2_dissolved_in_faces"];
-        dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
-        result.repairs["valence2_dissolved_in_faces"] += dissolvedBefore;
+        dissolveValence2Again();
     }
+    const auto onFeature = [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; };
     std::function<void(size_t, Vec3 &)> constrain;
     if (features) // feature vertices move along their curve only, corners not at all
         constrain = [&](size_t v, Vec3 &x) {
@@ -2306,10 +2311,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         };
     relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs, constrain);
     snapToProtrusions(polygons, positions, mesh, options.edgeLength,
-                      [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; }, result.repairs);
+                      onFeature, result.repairs);
     const auto th = Clock::now();
     holdDistance(polygons, positions, mesh, tree, options.edgeLength,
-                 [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; }, result.repairs);
+                 onFeature, result.repairs);
     result.timingsMs["distance_repair"] = msSince(th);
     if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
@@ -2321,16 +2326,13 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["pinched_vertices_split"] = splitPinchedVertices(polygons, positions, 0.25 * options.edgeLength);
     result.repairs["flipped_corners_moved"] =
         untangleFlipped(polygons, positions, mesh, tree, options.edgeLength,
-                        [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; });
+                        onFeature);
     result.repairs["flipped_triangles_absorbed"] = absorbFlippedTriangles(polygons, positions, mesh, tree, maxSides);
     result.repairs["folded_diagonals_collapsed"] = collapseFoldedDiagonals(
         polygons, positions, mesh, tree, kFoldedDiagonal * options.edgeLength,
-        [&](size_t v) { return features && v < size_t(nC) && cKind[v] != 0; });
-    if (result.repairs["folded_diagonals_collapsed"] > 0) { // a corner between the ends may have two neighbours left
-        const int dissolvedBefore = result.repairs["valence2_dissolved_in_faces"];
-        dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
-        result.repairs["valence2_dissolved_in_faces"] += dissolvedBefore;
-    }
+        onFeature);
+    if (result.repairs["folded_diagonals_collapsed"] > 0) // a corner between the ends may have two neighbours left
+        dissolveValence2Again();
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);
