@@ -261,8 +261,9 @@ void checkPlanes(const Illustration &il) {
     const size_t n = il.gbuffer.nPixels();
     const InkLayers &layers = il.layers;
     for (const std::vector<float> *v : {&layers.hatch0, &layers.hatch1, &layers.contour, &layers.hiddenContour,
-                                        &il.screen.angle0, &il.screen.angle1, &il.targetDensity})
+                                        &il.targetDensity})
         if (!v->empty()) ROSY_CHECK_EQ(v->size(), n);
+    if (!il.screen.lines.empty()) ROSY_CHECK_EQ(il.screen.lines.size(), n);
 }
 
 /// Pixel i of illustrationExr(), its channels in illustrationExrChannelNames() order,
@@ -285,9 +286,10 @@ void exrPixel(const Illustration &il, const std::vector<float> &coverage, int k,
     if (onObject) {
         const Vec3 nrm = il.gbuffer.normal(i);
         px[11] = float(nrm.x()), px[12] = float(nrm.y()), px[13] = float(nrm.z());
-        const float angle0 = get(il.screen.angle0, i);
+        const bool field = !il.screen.lines.empty();
+        const float angle0 = field ? il.screen.angle(0, i) : 0.0f;
         px[14] = angle0;
-        px[15] = get(il.screen.angle1, i);
+        px[15] = field ? il.screen.angle(1, i) : 0.0f;
         px[16] = float(std::cos(double(k) * angle0));
         px[17] = float(std::sin(double(k) * angle0));
         px[18] = 1.0f;

@@ -512,7 +512,7 @@ public:
                 const int i = pixelIndex(q);
                 m_threshold = baseThreshold();
                 if (!hole(q, i)) continue;
-                const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)];
+                const Eigen::Vector2f &d0 = m_field.dir(0, size_t(i));
                 Vec2 h(d0.x(), d0.y());
                 if (m_rotated) h = rotate(h, m_offCos, m_offSin);
                 if (trySeed(q, h, Pass::Holes) || trySeed(q, Vec2(-h.y(), h.x()), Pass::Holes))
@@ -746,7 +746,7 @@ private:
         const double r = 2.0 * dSep;
         const Sample *best[2] = {m_grid.nearest(q, r, m_family, true), nullptr};
         if (!best[0]) best[1] = m_grid.nearest(q, r, m_family, false);
-        const Eigen::Vector2f &d0 = m_field.dir0[size_t(i)], &d1 = m_field.dir1[size_t(i)];
+        const Eigen::Vector2f &d0 = m_field.dir(0, size_t(i)), &d1 = m_field.dir(1, size_t(i));
         Vec2 label = Vec2(m_family == 0 ? d0.x() : d1.x(), m_family == 0 ? d0.y() : d1.y());
         if (m_rotated) label = rotate(label, m_offCos, m_offSin);
         if (best[0]) {
@@ -788,25 +788,26 @@ private:
     void propagate(Pass pass) {
         while (m_next < m_strokes.size()) {
             const size_t parent = m_next++;
-            const std::vector<Vec2> pts = m_strokes[parent].points; // copy: m_strokes grows
-            const std::vector<Vec2> tans = m_tangents[parent];
-            for (size_t k = 0; k < pts.size(); ++k) {
-                const Vec2 nrm(-tans[k].y(), tans[k].x());
-                const int ip = pixelIndex(pts[k]);
+            // By index, not by reference: trySeed() appends to m_strokes and m_tangents.
+            const size_t nPoints = m_strokes[parent].points.size();
+            for (size_t k = 0; k < nPoints; ++k) {
+                const Vec2 point = m_strokes[parent].points[k], tangent = m_tangents[parent][k];
+                const Vec2 nrm(-tangent.y(), tangent.x());
+                const int ip = pixelIndex(point);
                 if (ip < 0) continue;
                 for (int side = -1; side <= 1; side += 2) {
                     double dist = spacingAt(ip);
                     if (m_style.spacingJitter != 0.0)
                         dist *= 1.0 + m_style.spacingJitter *
                                           (random01(m_seed, uint32_t(parent), uint32_t(2 * k + (side > 0))) - 0.5);
-                    Vec2 q = pts[k] + side * dist * nrm;
+                    Vec2 q = point + side * dist * nrm;
                     // Toward lighter tone the seed's own d_sep is larger; place it there.
                     const int iq = pixelIndex(q);
                     if (iq >= 0 && m_style.spacingJitter == 0.0) {
                         const double dq = spacingAt(iq);
-                        if (dq > dist) q = pts[k] + side * dq * nrm;
+                        if (dq > dist) q = point + side * dq * nrm;
                     }
-                    trySeed(q, tans[k], pass);
+                    trySeed(q, tangent, pass);
                 }
             }
         }
@@ -1125,7 +1126,7 @@ double maxHatchDensity(const styles::HatchStyle &style) {
 double crossWeight(const ScreenField &field, size_t pixel) {
     static const double c0 = std::cos(kCrossCollapseDeg * M_PI / 180.0),
                         c1 = std::cos((kCrossCollapseDeg + kCrossCollapseBandDeg) * M_PI / 180.0);
-    const Eigen::Vector2f &d0 = field.dir0[pixel], &d1 = field.dir1[pixel];
+    const Eigen::Vector2f &d0 = field.dir(0, pixel), &d1 = field.dir(1, pixel);
     const double c = std::abs(double(d0.dot(d1)));
     const double t = std::clamp((c0 - c) / (c0 - c1), 0.0, 1.0);
     return t * t * (3.0 - 2.0 * t);

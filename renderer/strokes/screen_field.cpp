@@ -20,8 +20,8 @@ Vec2 foldLine(const Vec2 &v) {
     return (u.y() < 0 || (u.y() == 0 && u.x() < 0)) ? Vec2(-u) : u;
 }
 
-float lineAngle(const Vec2 &folded) {
-    const float a = std::atan2(float(folded.y()), float(folded.x()));
+float lineAngle(const Eigen::Vector2f &folded) {
+    const float a = std::atan2(folded.y(), folded.x());
     // Rounding to float can land on π itself, which is the same line as 0.
     return a >= 0.f && a < float(M_PI) ? a : 0.f;
 }
@@ -83,10 +83,15 @@ static bool sampleLines(const ScreenField &field, const Vec2 &p, Pick &&pick, Ve
     double wSum = 0;
     for (int k = 0; k < 4; ++k) {
         const int x = fp.x0 + (k & 1), y = fp.y0 + (k >> 1);
-        if (!field.isValid(x, y)) continue;
+        if (x < 0 || y < 0 || x >= field.width || y >= field.height) continue;
+        const size_t i = size_t(field.index(x, y));
+        // Valid pixels, and only they, hold unit directions (invalid ones zeros): one
+        // read of the directions instead of a second array.
+        const Eigen::Vector2f &d0 = field.lines[i].d[0];
+        if (d0.x() == 0.0f && d0.y() == 0.0f) continue;
         const double w = ((k & 1) ? fp.fx : 1 - fp.fx) * ((k >> 1) ? fp.fy : 1 - fp.fy);
         if (w <= 0) continue;
-        sum += w * doubled(pick(size_t(field.index(x, y))));
+        sum += w * doubled(pick(i));
         wSum += w;
     }
     if (!(wSum > 1e-12)) return false;
@@ -97,9 +102,10 @@ bool ScreenField::lineNear(const Vec2 &p, const Vec2 &heading, Vec2 &dir) const 
     // Per pixel the heading chooses the direction, so label swaps between
     // neighbouring pixels (cross fields have no global labels) do not mix lines.
     auto closest = [&](size_t i) -> const Eigen::Vector2f & {
-        const double c0 = std::abs(heading.x() * dir0[i].x() + heading.y() * dir0[i].y());
-        const double c1 = std::abs(heading.x() * dir1[i].x() + heading.y() * dir1[i].y());
-        return c0 >= c1 ? dir0[i] : dir1[i];
+        const Eigen::Vector2f &d0 = lines[i].d[0], &d1 = lines[i].d[1];
+        const double c0 = std::abs(heading.x() * d0.x() + heading.y() * d0.y());
+        const double c1 = std::abs(heading.x() * d1.x() + heading.y() * d1.y());
+        return c0 >= c1 ? d0 : d1;
     };
     Vec2 d;
     if (!sampleLines(*this, p, closest, d)) return false;
@@ -107,9 +113,12 @@ bool ScreenField::lineNear(const Vec2 &p, const Vec2 &heading, Vec2 &dir) const 
     return true;
 }
 
+float ScreenField::angle(int family, size_t i) const {
+    return lineAngle(dir(family, i));
+}
+
 bool ScreenField::lineOfFamily(const Vec2 &p, int family, Vec2 &dir) const {
-    const std::vector<Eigen::Vector2f> &d = family == 0 ? dir0 : dir1;
-    return sampleLines(*this, p, [&](size_t i) -> const Eigen::Vector2f & { return d[i]; }, dir);
+    return sampleLines(*this, p, [&](size_t i) -> const Eigen::Vector2f & { return lines[i].d[family]; }, dir);
 }
 
 ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrames &frames,
@@ -123,10 +132,7 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
     out.height = gbuffer.height;
     out.nSym = field.nSym;
     const size_t n = gbuffer.nPixels();
-    assignLarge(out.angle0, n, 0.f);
-    assignLarge(out.angle1, n, 0.f);
-    assignLarge(out.dir0, n, Eigen::Vector2f(Eigen::Vector2f::Zero()));
-    assignLarge(out.dir1, n, Eigen::Vector2f(Eigen::Vector2f::Zero()));
+    assignLarge(out.lines, n, ScreenField::Lines{{Eigen::Vector2f::Zero(), Eigen::Vector2f::Zero()}});
     assignLarge(out.strength, n, 0.f);
     assignLarge(out.valid, n, uint8_t(0));
     if (n == 0) return out;
@@ -170,10 +176,8 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             const double scale = J.norm();
             if (!(s0.norm() > 1e-6 * scale) || !(s1.norm() > 1e-6 * scale)) continue;
             const Vec2 l0 = foldLine(s0), l1 = foldLine(s1);
-            out.angle0[i] = lineAngle(l0);
-            out.angle1[i] = lineAngle(l1);
-            out.dir0[i] = l0.cast<float>();
-            out.dir1[i] = l1.cast<float>();
+            out.lines[i].d[0] = l0.cast<float>();
+            out.lines[i].d[1] = l1.cast<float>();
             out.valid[i] = 1;
         }
     }, 1);

@@ -42,13 +42,17 @@ struct ScreenField {
     int width = 0;
     int height = 0;
     int nSym = 0; ///< N of the surface field it came from
-    /// #pixels; screen angle of d0 (projected m0), radians in [0, π), raster frame
-    /// (x right, y down, so a positive angle turns clockwise on screen).
-    std::vector<float> angle0;
-    /// #pixels; screen angle of d1 (projected n × m0), radians in [0, π).
-    std::vector<float> angle1;
-    /// #pixels; unit screen vectors (cos, sin) of angle0 / angle1, kept so sampling needs no trig.
-    std::vector<Eigen::Vector2f> dir0, dir1;
+    /// #pixels; unit screen line directions of the two field families: d0 (projected
+    /// m0) and d1 (projected n × m0), folded into angles [0, π) in the raster frame (x
+    /// right, y down, so a positive angle turns clockwise on screen); zero where invalid.
+    /// Both in one 16-byte element per pixel, so the tracer's lookups (both
+    /// directions of four neighbouring pixels per step) read one cache line, not two.
+    struct Lines {
+        Eigen::Vector2f d[2];
+    };
+    std::vector<Lines> lines;
+    /// d0 (family 0) or d1 (family 1) at pixel i.
+    const Eigen::Vector2f &dir(int family, size_t i) const { return lines[i].d[family]; }
     /// #pixels; field strength |u| interpolated in the face (0 at a zero of the field).
     std::vector<float> strength;
     /// #pixels; 1 where the pixel sees the surface, the field is non-zero and both
@@ -60,6 +64,10 @@ struct ScreenField {
 
     int index(int x, int y) const { return y * width + x; }
     size_t nPixels() const { return size_t(width) * size_t(height); }
+    /// Screen angle of d0 (family 0) or d1 (family 1) at pixel i, radians in [0, π);
+    /// 0 where the pixel is invalid. Taken from dir0 / dir1 when asked (only the
+    /// EXR channels field.angle0/1 need it), so tracing pays no atan2 per pixel.
+    float angle(int family, size_t i) const;
     bool isValid(int x, int y) const {
         return x >= 0 && y >= 0 && x < width && y < height && valid[size_t(index(x, y))] != 0;
     }

@@ -167,7 +167,7 @@ TEST(ScreenField, DirectionsTurnSmoothlyAcrossAGentleFold) {
             if (g.faceId[a] < 0 || g.faceId[b] < 0 || !sf.valid[a] || !sf.valid[b]) continue;
             if ((g.faceId[a] < 2) == (g.faceId[b] < 2)) continue; // not across the fold
             ++pairs;
-            worst = std::max(worst, lineDeg(sf.angle1[a], sf.angle1[b]));
+            worst = std::max(worst, lineDeg(sf.angle(1, a), sf.angle(1, b)));
             const Vec2 d0 = screenDir(g.position(a), Vec3::UnitY());
             const Vec2 d1 = screenDir(g.position(a), Vec3(0, std::cos(fold), std::sin(fold)));
             flatJump = std::min(flatJump, lineDeg(std::atan2(d0.y(), d0.x()), std::atan2(d1.y(), d1.x())));

@@ -126,7 +126,7 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
             if (!s.screen.isValid(x, y)) continue;
             const size_t i = size_t(s.gbuffer.index(x, y));
             const Vec3 p = s.gbuffer.position(i);
-            const float a0 = s.screen.angle0[i], a1 = s.screen.angle1[i];
+            const float a0 = s.screen.angle(0, i), a1 = s.screen.angle(1, i);
             ASSERT_GE(a0, 0.f);
             ASSERT_LT(a0, float(M_PI));
             // d0 along world x, d1 along n × x = world y (which recedes to a vanishing point).
@@ -138,7 +138,7 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
     EXPECT_LT(worst, 0.05);
     // The receding family really converges: dropping z would have made it vertical everywhere.
     const size_t left = size_t(s.gbuffer.index(20, 48)), right = size_t(s.gbuffer.index(76, 48));
-    EXPECT_GT(std::abs(s.screen.angle1[left] - s.screen.angle1[right]) / kDeg, 5.0);
+    EXPECT_GT(std::abs(s.screen.angle(1, left) - s.screen.angle(1, right)) / kDeg, 5.0);
 }
 
 TEST(Hatching, PlaneAt45DegreesHasStyleSpacing) {
