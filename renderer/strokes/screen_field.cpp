@@ -56,6 +56,10 @@ bool undouble(const Vec2 &s, Vec2 &dir) {
     return true;
 }
 
+/// |z| as sqrt(re² + im²): std::abs of a complex calls hypot(), which guards against
+/// overflow and underflow at several times the cost; field values are O(1).
+double modulus(const field::Complex &z) { return std::sqrt(z.real() * z.real() + z.imag() * z.imag()); }
+
 /// 3D direction of the first member vector, angle arg(u)/N in face f's frame. For
 /// N = 1, 2, 4 principal square roots give exactly that angle without trigonometry
 /// (arg of the principal root is half the argument).
@@ -67,7 +71,7 @@ Vec3 memberDirection(const field::TangentFrames &frames, int f, field::Complex u
     case 4: r = std::sqrt(std::sqrt(u)); break;
     default: return frames.faceDirection(f, std::arg(u) / nSym);
     }
-    const double n = std::abs(r);
+    const double n = modulus(r);
     return (r.real() / n) * frames.faceAxisX(f) + (r.imag() / n) * frames.faceAxisY(f);
 }
 
@@ -153,7 +157,7 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             // Representation vectors add linearly (P&Z Eq. 3), so interpolating them is
             // interpolating the N-RoSy; the member angle is taken afterwards.
             const field::Complex u = (1 - b.x() - b.y()) * c[0] + b.x() * c[1] + b.y() * c[2];
-            const double strength = std::abs(u);
+            const double strength = modulus(u);
             out.strength[i] = float(strength);
             if (!(strength > 1e-12)) continue;
             // The member lies in face f's plane; projected from there, one surface
