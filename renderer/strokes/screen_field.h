@@ -44,7 +44,8 @@ struct ScreenField {
     int nSym = 0; ///< N of the surface field it came from
     /// #pixels; unit screen line directions of the two field families: d0 (projected
     /// m0) and d1 (projected n × m0), folded into angles [0, π) in the raster frame (x
-    /// right, y down, so a positive angle turns clockwise on screen); zero where invalid.
+    /// right, y down, so a positive angle turns clockwise on screen). Both are zero
+    /// exactly where `valid` is 0: lineNear() tells a valid pixel by its directions.
     /// Both in one 16-byte element per pixel, so the tracer's lookups (both
     /// directions of four neighbouring pixels per step) read one cache line, not two.
     struct Lines {

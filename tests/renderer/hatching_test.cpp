@@ -141,6 +141,35 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
     EXPECT_GT(std::abs(s.screen.angle(1, left) - s.screen.angle(1, right)) / kDeg, 5.0);
 }
 
+// lineNear() tells a valid pixel by its directions (one read instead of two arrays):
+// a valid pixel holds two unit directions, an invalid one zeros; the angle is the
+// direction's, folded into [0, π).
+TEST(ScreenField, ValidPixelsAndOnlyTheyHoldUnitDirections) {
+    Scene s = tiltedPlane(64);
+    int valid = 0, invalid = 0;
+    for (size_t i = 0; i < s.screen.nPixels(); ++i) {
+        for (int f = 0; f < 2; ++f) {
+            const Eigen::Vector2f &d = s.screen.dir(f, i);
+            if (s.screen.valid[i]) {
+                ASSERT_NEAR(d.norm(), 1.0f, 1e-5f) << "pixel " << i;
+                const float a = s.screen.angle(f, i);
+                ASSERT_GE(a, 0.f);
+                ASSERT_LT(a, float(M_PI));
+                // The same line: (cos a, sin a) is ±d.
+                ASSERT_NEAR(std::abs(std::cos(a) * d.x() + std::sin(a) * d.y()), 1.0f, 1e-5f) << "pixel " << i;
+            } else {
+                ASSERT_EQ(d.x(), 0.0f);
+                ASSERT_EQ(d.y(), 0.0f);
+                ASSERT_EQ(s.screen.angle(f, i), 0.0f);
+            }
+        }
+        ++(s.screen.valid[i] ? valid : invalid);
+    }
+    // The plane does not fill the picture: both kinds occur.
+    EXPECT_GT(valid, 500);
+    EXPECT_GT(invalid, 100);
+}
+
 TEST(Hatching, PlaneAt45DegreesHasStyleSpacing) {
     Scene s = tiltedPlane(192);
     styles::HatchStyle st;
