@@ -183,6 +183,34 @@ bool RayScene::occluded(const Ray &ray) const {
     return r.tfar < 0.0f;
 }
 
+void RayScene::occluded8(const Ray *rays, int count, bool *out) const {
+    alignas(32) int valid[8];
+    alignas(32) RTCRay8 r8;
+    for (int k = 0; k < 8; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        RTCRay r;
+        toRtcRay(rays[k < count ? k : 0], m_impl->toEmbree, r);
+        r8.org_x[k] = r.org_x;
+        r8.org_y[k] = r.org_y;
+        r8.org_z[k] = r.org_z;
+        r8.dir_x[k] = r.dir_x;
+        r8.dir_y[k] = r.dir_y;
+        r8.dir_z[k] = r.dir_z;
+        r8.tnear[k] = r.tnear;
+        r8.tfar[k] = r.tfar;
+        r8.time[k] = 0.0f;
+        r8.mask[k] = ~0u;
+        r8.id[k] = unsigned(k);
+        r8.flags[k] = 0;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcOccluded8(valid, m_impl->scene, &context, &r8);
+    // Embree marks an occluded ray by setting tfar to -inf.
+    for (int k = 0; k < count; ++k) out[k] = r8.tfar[k] < 0.0f;
+}
+
 void RayScene::occludedMany(const Ray *rays, int count, bool *out) const {
     constexpr int kChunk = 64;
     RTCRay r[kChunk];

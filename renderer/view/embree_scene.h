@@ -42,6 +42,10 @@ public:
     void intersect8(const Ray *rays, int count, Hit *hits) const;
     /// True if anything lies on the ray with t in [ray.tMin, ray.tMax].
     bool occluded(const Ray &ray) const;
+    /// occluded() of up to 8 rays at once (Embree's packet traversal, for coherent
+    /// rays such as the shadow rays of neighbouring pixels toward one light);
+    /// out[k] == occluded(rays[k]). count in [0, 8].
+    void occluded8(const Ray *rays, int count, bool *out) const;
     /// occluded() of `count` rays at once through Embree's stream call
     /// (rtcOccluded1M, incoherent rays such as ambient-occlusion samples):
     /// out[k] == occluded(rays[k]).

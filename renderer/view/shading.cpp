@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <vector>
 
 namespace rosy::renderer {
 
@@ -111,19 +113,30 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
     double ambient = std::clamp(options.ambient, 0.0, 1.0);
     std::vector<float> ao;
     if (options.aoSamples > 0) ao = ambientOcclusion(g, scene, mesh, camera, options);
+    // Per row, in three passes so that each light's shadow rays, which are parallel
+    // (directional) or converge on one point, go to Embree eight neighbours at a time:
+    // every (pixel, light) term's factor n·l and whether it needs a shadow ray; the
+    // rays; then each pixel's sum over its lights in the lights' order, as one loop
+    // over the lights would add them.
+    const size_t nLights = lights.size();
     parallelFor(
         0, g.height,
         [&](int64_t y) {
-            for (int x = 0; x < g.width; ++x) {
-                size_t i = size_t(g.index(x, int(y)));
-                int f = g.faceId[i];
-                if (f < 0) continue;
-                const Vec3 p = g.position(i);
-                Vec3 n, ng;
-                viewerNormals(g, faceNormals, camera, i, p, n, ng);
-                const double eps = surfaceOffset(scene, p);
-                double light = 0.0;
-                for (const Light &L : lights) {
+            // ndl[x * nLights + j]: light j's factor at pixel x, 0 where it adds nothing
+            // (facing away, at the light); ray[...]: index of its shadow ray, or −1.
+            std::vector<double> ndl(size_t(g.width) * nLights, 0.0);
+            std::vector<int> rayOf(size_t(g.width) * nLights, -1);
+            std::vector<Ray> rays;
+            std::vector<uint8_t> blocked;
+            for (size_t j = 0; j < nLights; ++j) {
+                const Light &L = lights[j];
+                const size_t first = rays.size();
+                for (int x = 0; x < g.width; ++x) {
+                    const size_t i = size_t(g.index(x, int(y)));
+                    if (g.faceId[i] < 0) continue;
+                    const Vec3 p = g.position(i);
+                    Vec3 n, ng;
+                    viewerNormals(g, faceNormals, camera, i, p, n, ng);
                     Vec3 l;
                     double tMax = std::numeric_limits<double>::infinity();
                     if (L.type == Light::Type::Directional) {
@@ -135,20 +148,40 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
                         l /= d;
                         tMax = d;
                     }
-                    double ndl = n.dot(l);
-                    if (!(ndl > 0.0)) continue;
+                    const double c = n.dot(l);
+                    if (!(c > 0.0)) continue;
+                    const size_t term = size_t(x) * nLights + j;
+                    ndl[term] = c;
                     // Where the interpolated normal sees the light but the flat face does
                     // not (near the terminator), a shadow ray would hit the neighbouring
                     // faces; treat those points as lit so the terminator stays smooth.
                     if (options.shadows && ng.dot(l) > 0.0) {
                         Ray shadow;
-                        shadow.origin = p + eps * ng;
+                        shadow.origin = p + surfaceOffset(scene, p) * ng;
                         shadow.dir = l;
                         shadow.tMin = 0.0;
                         shadow.tMax = tMax;
-                        if (scene.occluded(shadow)) continue;
+                        rayOf[term] = int(rays.size());
+                        rays.push_back(shadow);
                     }
-                    light += L.intensity * ndl;
+                }
+                blocked.resize(rays.size());
+                for (size_t k = first; k < rays.size(); k += 8) {
+                    bool out[8];
+                    const int m = int(std::min<size_t>(8, rays.size() - k));
+                    scene.occluded8(rays.data() + k, m, out);
+                    for (int q = 0; q < m; ++q) blocked[k + size_t(q)] = out[q] ? 1 : 0;
+                }
+            }
+            for (int x = 0; x < g.width; ++x) {
+                const size_t i = size_t(g.index(x, int(y)));
+                if (g.faceId[i] < 0) continue;
+                double light = 0.0;
+                for (size_t j = 0; j < nLights; ++j) {
+                    const size_t term = size_t(x) * nLights + j;
+                    if (!(ndl[term] > 0.0)) continue;
+                    if (rayOf[term] >= 0 && blocked[size_t(rayOf[term])]) continue;
+                    light += lights[j].intensity * ndl[term];
                 }
                 const double occlusion = ao.empty() ? 1.0 : double(ao[i]);
                 tone[i] = ambient * occlusion + (1.0 - ambient) * std::clamp(light, 0.0, 1.0);

@@ -10,6 +10,9 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
 
 using namespace rosy::renderer;
 
@@ -53,6 +56,44 @@ TEST(RayScene, HitsSphereAtAnalyticDistance) {
     ray.origin = Vec3(2, 0, 5);
     EXPECT_FALSE(scene.intersect(ray).valid());
     EXPECT_FALSE(scene.occluded(ray));
+}
+
+TEST(RayScene, PacketAndStreamQueriesAnswerAsSingleRays) {
+    // Shading traces its shadow rays eight at a time and ambient occlusion in streams;
+    // both must say what occluded() says of each ray, also for rays that graze the
+    // sphere, pass through its vertices and edges, or stop just short of it.
+    rosy::field::Mesh mesh = rosy::test::makeSphere(3);
+    RayScene scene(mesh);
+    std::vector<Ray> rays;
+    for (int a = 0; a < 37; ++a)
+        for (int b = 0; b < 23; ++b) {
+            Ray r;
+            r.origin = Vec3(-1.2 + 2.4 * a / 36.0, -1.2 + 2.4 * b / 22.0, 3.0);
+            r.dir = Vec3(0.05 * std::sin(a + b), 0.05 * std::cos(a * b), -1.0).normalized();
+            r.tMin = 0.0;
+            r.tMax = (a + b) % 5 == 0 ? 1.9 + 0.01 * b : std::numeric_limits<double>::infinity();
+            rays.push_back(r);
+        }
+    for (const Vec3 &p : {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0.5, 0.5, std::sqrt(0.5))}) {
+        Ray r; // toward a vertex of the octahedron-based sphere, and a point beside
+        r.origin = 3.0 * p + Vec3(0.3, -0.2, 0.1);
+        r.dir = (p - r.origin).normalized();
+        rays.push_back(r);
+    }
+    std::vector<bool> single(rays.size());
+    int hits = 0;
+    for (size_t k = 0; k < rays.size(); ++k) hits += (single[k] = scene.occluded(rays[k])) ? 1 : 0;
+    ASSERT_GT(hits, 100);
+    ASSERT_LT(hits, int(rays.size()) - 100);
+    for (size_t k0 = 0; k0 < rays.size(); k0 += 8) {
+        const int m = int(std::min<size_t>(8, rays.size() - k0));
+        bool out[8];
+        scene.occluded8(rays.data() + k0, m, out);
+        for (int q = 0; q < m; ++q) EXPECT_EQ(out[q], single[k0 + size_t(q)]) << "ray " << k0 + size_t(q);
+    }
+    std::unique_ptr<bool[]> many(new bool[rays.size()]);
+    scene.occludedMany(rays.data(), int(rays.size()), many.get());
+    for (size_t k = 0; k < rays.size(); ++k) EXPECT_EQ(many[k], single[k]) << "ray " << k;
 }
 
 TEST(RayScene, EmptyMeshMissesEverything) {
