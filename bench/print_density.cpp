@@ -116,7 +116,7 @@ int main(int argc, char **argv) {
         for (size_t i = 0; i < il.targetDensity.size(); ++i) {
             const double rho = il.targetDensity[i];
             if (renderer::hatchFamilies(rho, hs) == 0) continue;
-            const double w = il.screen.valid[i] ? renderer::crossWeight(il.screen, i) : 0.0;
+            const double w = il.screen.valid(i) ? renderer::crossWeight(il.screen, i) : 0.0;
             const std::array<double, 2> c = renderer::familyCoverage(rho, hs, w);
             for (int f = 0; f < 2; ++f)
                 if (c[size_t(f)] > 0) {

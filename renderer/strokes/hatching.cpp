@@ -432,7 +432,7 @@ public:
         for (PixelArray<double> &sp : m_spacing) sp = PixelArray<double>(field.nPixels());
         parallelFor(0, int64_t(field.nPixels()), [&](int64_t ii) {
             const size_t i = size_t(ii);
-            const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+            const double w = field.valid(i) ? crossWeight(field, i) : 0.0;
             m_crossWeight[i] = float(w);
             // Untoned pixels (paper, background) have no coverage: the sparsest spacing.
             if (hatchFamilies(densityAt(int(i)), style) == 0) {
@@ -942,7 +942,7 @@ private:
         parallelFor(0, h, [&](int64_t y) {
             for (int x = 0; x < w; ++x) {
                 const size_t i = size_t(y) * size_t(w) + size_t(x);
-                if (g.faceId[i] < 0 || !m_field.valid[i]) {
+                if (g.faceId[i] < 0 || !m_field.valid(i)) {
                     edge[i] = 1;
                     continue;
                 }
@@ -1160,7 +1160,7 @@ double toneInkPx(const ScreenField &field, const std::vector<float> &targetDensi
         for (int x = 0; x < field.width; ++x) {
             const size_t i = size_t(field.index(x, int(y)));
             const double rho = clampDensity(targetDensity[i]);
-            if (!field.valid[i] || hatchFamilies(rho, style) == 0) continue;
+            if (!field.valid(i) || hatchFamilies(rho, style) == 0) continue;
             const double w = crossWeight(field, i);
             const std::array<double, 2> c = familyCoverage(rho, style, w);
             for (int f = 0; f < 2; ++f) {
@@ -1241,7 +1241,7 @@ double measuredSpacingAt(const ScreenField &field, const std::vector<float> &tar
     const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
     const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
     const size_t i = size_t(field.index(x, y));
-    const double w = field.valid[i] ? crossWeight(field, i) : 0.0;
+    const double w = field.valid(i) ? crossWeight(field, i) : 0.0;
     return familySpacingPx(clampDensity(targetDensity[i]), family, style, w);
 }
 

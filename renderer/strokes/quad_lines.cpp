@@ -101,7 +101,7 @@ std::vector<Stroke> lineStrokes(const SurfaceLine &line, const ScreenField &scre
             size_t i = 0;
             if (keep) {
                 i = size_t(g.index(px, py));
-                keep = g.faceId[i] >= 0 && screen.valid[i] && camera.depth(pm) <= g.depth[i] + slack;
+                keep = g.faceId[i] >= 0 && screen.valid(i) && camera.depth(pm) <= g.depth[i] + slack;
             }
             if (keep) {
                 const float d = targetDensity[i];

@@ -89,10 +89,7 @@ static bool sampleLines(const ScreenField &field, const Vec2 &p, Pick &&pick, Ve
         const int x = fp.x0 + (k & 1), y = fp.y0 + (k >> 1);
         if (x < 0 || y < 0 || x >= field.width || y >= field.height) continue;
         const size_t i = size_t(field.index(x, y));
-        // Valid pixels, and only they, hold unit directions (invalid ones zeros): one
-        // read of the directions instead of a second array.
-        const Eigen::Vector2f &d0 = field.lines[i].d[0];
-        if (d0.x() == 0.0f && d0.y() == 0.0f) continue;
+        if (!field.valid(i)) continue;
         const double w = ((k & 1) ? fp.fx : 1 - fp.fx) * ((k >> 1) ? fp.fy : 1 - fp.fy);
         if (w <= 0) continue;
         sum += w * doubled(pick(i));
@@ -138,7 +135,6 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
     const size_t n = gbuffer.nPixels();
     assignLarge(out.lines, n, ScreenField::Lines{{Eigen::Vector2f::Zero(), Eigen::Vector2f::Zero()}});
     assignLarge(out.strength, n, 0.f);
-    assignLarge(out.valid, n, uint8_t(0));
     if (n == 0) return out;
 
     // Corner values per face once: faces cover many pixels at high resolution.
@@ -182,7 +178,6 @@ ScreenField computeScreenField(const GBuffer &gbuffer, const field::TangentFrame
             const Vec2 l0 = foldLine(s0), l1 = foldLine(s1);
             out.lines[i].d[0] = l0.cast<float>();
             out.lines[i].d[1] = l1.cast<float>();
-            out.valid[i] = 1;
         }
     }, 1);
 

@@ -45,7 +45,7 @@ struct ScreenField {
     /// #pixels; unit screen line directions of the two field families: d0 (projected
     /// m0) and d1 (projected n × m0), folded into angles [0, π) in the raster frame (x
     /// right, y down, so a positive angle turns clockwise on screen). Both are zero
-    /// exactly where `valid` is 0: lineNear() tells a valid pixel by its directions.
+    /// exactly where the pixel is not valid(), which is how valid() tells them.
     /// Both in one 16-byte element per pixel, so the tracer's lookups (both
     /// directions of four neighbouring pixels per step) read one cache line, not two.
     struct Lines {
@@ -56,9 +56,13 @@ struct ScreenField {
     const Eigen::Vector2f &dir(int family, size_t i) const { return lines[i].d[family]; }
     /// #pixels; field strength |u| interpolated in the face (0 at a zero of the field).
     std::vector<float> strength;
-    /// #pixels; 1 where the pixel sees the surface, the field is non-zero and both
-    /// directions project to non-degenerate screen vectors; else 0.
-    std::vector<uint8_t> valid;
+    /// True where pixel i sees the surface, the field is non-zero and both directions
+    /// project to non-degenerate screen vectors: exactly where it holds directions
+    /// (unit d0 and d1; zeros elsewhere), so no separate mask is stored or read.
+    bool valid(size_t i) const {
+        const Eigen::Vector2f &d0 = lines[i].d[0];
+        return d0.x() != 0.0f || d0.y() != 0.0f;
+    }
     /// Singularities of the field (all of them, with a visibility flag), in the order
     /// findSingularities() reports them (by face id).
     std::vector<ScreenSingularity> singularities;
@@ -70,7 +74,7 @@ struct ScreenField {
     /// EXR channels field.angle0/1 need it), so tracing pays no atan2 per pixel.
     float angle(int family, size_t i) const;
     bool isValid(int x, int y) const {
-        return x >= 0 && y >= 0 && x < width && y < height && valid[size_t(index(x, y))] != 0;
+        return x >= 0 && y >= 0 && x < width && y < height && valid(size_t(index(x, y)));
     }
 
     /// The line direction at raster point p that is closest to `heading`, bilinear

@@ -164,7 +164,7 @@ TEST(ScreenField, DirectionsTurnSmoothlyAcrossAGentleFold) {
     for (int y = 0; y + 1 < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {
             const size_t a = size_t(g.index(x, y)), b = size_t(g.index(x, y + 1));
-            if (g.faceId[a] < 0 || g.faceId[b] < 0 || !sf.valid[a] || !sf.valid[b]) continue;
+            if (g.faceId[a] < 0 || g.faceId[b] < 0 || !sf.valid(size_t(a)) || !sf.valid(size_t(b))) continue;
             if ((g.faceId[a] < 2) == (g.faceId[b] < 2)) continue; // not across the fold
             ++pairs;
             worst = std::max(worst, lineDeg(sf.angle(1, a), sf.angle(1, b)));

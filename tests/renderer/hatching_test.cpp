@@ -141,16 +141,18 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
     EXPECT_GT(std::abs(s.screen.angle(1, left) - s.screen.angle(1, right)) / kDeg, 5.0);
 }
 
-// lineNear() tells a valid pixel by its directions (one read instead of two arrays):
-// a valid pixel holds two unit directions, an invalid one zeros; the angle is the
-// direction's, folded into [0, π).
-TEST(ScreenField, ValidPixelsAndOnlyTheyHoldUnitDirections) {
+// valid() and lineNear() tell a valid pixel by its directions: a pixel that sees the
+// plane (whose field is nowhere zero and which is nowhere edge-on) holds two unit
+// directions, a background pixel zeros; the angle is the direction's, in [0, π).
+TEST(ScreenField, CoveredPixelsAndOnlyTheyHoldUnitDirections) {
     Scene s = tiltedPlane(64);
-    int valid = 0, invalid = 0;
+    int covered = 0, background = 0;
     for (size_t i = 0; i < s.screen.nPixels(); ++i) {
+        const bool sees = s.gbuffer.faceId[i] >= 0;
+        ASSERT_EQ(s.screen.valid(i), sees) << "pixel " << i;
         for (int f = 0; f < 2; ++f) {
             const Eigen::Vector2f &d = s.screen.dir(f, i);
-            if (s.screen.valid[i]) {
+            if (sees) {
                 ASSERT_NEAR(d.norm(), 1.0f, 1e-5f) << "pixel " << i;
                 const float a = s.screen.angle(f, i);
                 ASSERT_GE(a, 0.f);
@@ -163,11 +165,11 @@ TEST(ScreenField, ValidPixelsAndOnlyTheyHoldUnitDirections) {
                 ASSERT_EQ(s.screen.angle(f, i), 0.0f);
             }
         }
-        ++(s.screen.valid[i] ? valid : invalid);
+        ++(sees ? covered : background);
     }
     // The plane does not fill the picture: both kinds occur.
-    EXPECT_GT(valid, 500);
-    EXPECT_GT(invalid, 100);
+    EXPECT_GT(covered, 500);
+    EXPECT_GT(background, 100);
 }
 
 TEST(Hatching, PlaneAt45DegreesHasStyleSpacing) {
@@ -729,7 +731,7 @@ TEST(Hatching, ToneInkIsOneLinePerSpacingOnEveryValidPixel) {
     // with toneInkPx(): per valid pixel, 1 / d_sep of each family that hatches.
     const Scene s = tiltedPlane(96);
     size_t valid = 0;
-    for (uint8_t v : s.screen.valid) valid += v != 0;
+    for (size_t i = 0; i < s.screen.nPixels(); ++i) valid += s.screen.valid(i) ? 1 : 0;
     ASSERT_GT(valid, 1000u);
     styles::HatchStyle st; // 1.8 px lines, spacings clamped to [3.2, 24] px
     // One family at density 0.2: lines 1.8 / 0.2 = 9 px apart.
