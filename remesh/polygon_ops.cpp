@@ -564,12 +564,25 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
             std::sort(acrossSides.begin(), acrossSides.end());
             acrossSides.erase(std::unique(acrossSides.begin(), acrossSides.end()), acrossSides.end());
             const std::vector<int> atCorners = grow({f}), beyond = grow(atCorners);
+            // Last, the faces across the sides of the first patch's faces: a patch
+            // that grows along a tangle but not round a feature corner beside it.
+            std::vector<int> acrossTwice = acrossSides;
+            for (int g : acrossSides) {
+                const std::vector<int> &G = polygons[size_t(g)];
+                for (size_t k = 0; k < G.size(); ++k) {
+                    const auto it = faceOf.find(directedEdgeKey(G[(k + 1) % G.size()], G[k]));
+                    if (it != faceOf.end() && !gone[size_t(it->second)]) acrossTwice.push_back(it->second);
+                }
+            }
+            std::sort(acrossTwice.begin(), acrossTwice.end());
+            acrossTwice.erase(std::unique(acrossTwice.begin(), acrossTwice.end()), acrossTwice.end());
+            const std::array<const std::vector<int> *, 4> patches = {&acrossSides, &atCorners, &beyond, &acrossTwice};
             // Fixed vertices inside a patch are kept (a fan from one) unless no patch
             // can be refilled so: then they may go (a tangle on a crease).
             bool done = false;
-            for (int pass = 0; pass < 6 && !done; ++pass) {
-                const bool keepFixed = pass < 3;
-                const std::vector<int> *patch = pass % 3 == 0 ? &acrossSides : pass % 3 == 1 ? &atCorners : &beyond;
+            for (int pass = 0; pass < 8 && !done; ++pass) {
+                const bool keepFixed = pass < 4;
+                const std::vector<int> *patch = patches[size_t(pass % 4)];
                 const std::vector<int> loop = boundaryLoop(*patch, polygons);
                 if (loop.size() < 3) continue;
                 // A disk (V - E + F = 1), with at most one fixed vertex inside.

@@ -113,7 +113,8 @@ int collapseFoldedDiagonals(std::vector<std::vector<int>> &polygons, std::vector
 /// a fan over a hole turned over, a face on a part or across a gap thinner than its
 /// own sag — is cut out with the faces around it and the hole filled again. The
 /// patch is the face and the faces across its sides, else the faces at its corners,
-/// else the faces at their corners; it must be a disk (one boundary loop through no
+/// else the faces at their corners, else the faces across the sides of the first
+/// patch's faces; it must be a disk (one boundary loop through no
 /// vertex twice, V − E + F = 1). Its boundary is filled with the cut between its
 /// own corners facing the input best (fillHole's), with the fan from the input
 /// point nearest the boundary's centroid, or with the fan from one of the vertices
