@@ -313,7 +313,7 @@ TEST(FillHole, AThinLIsCutIntoEarsNotFannedFromOutside) {
 }
 
 // A closed cube (4 × 4 grid of squares per side, each cut in two) whose top-centre
-// vertex is dragged 0.8 across its ring of radius 0.5: six of its triangles turn over
+// vertex is dragged 0.8 across its ring of radius 0.5: triangles of its fan turn over
 // and moving the vertex back is not allowed (fixed). The patch of the turned faces and
 // those beside them is cut out and filled again around the fixed vertex: nothing
 // flipped, the cube closed, manifold, χ 2.
