@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
+#include <set>
 #include <unordered_map>
 #include <functional>
 
@@ -162,6 +165,97 @@ bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions
     for (int v : poly) c += positions[v];
     const ClosestPoint cp = inputTree.closest(c / double(poly.size()));
     return cp.triangle >= 0 && vectorArea(poly, positions).dot(input.faceNormal(cp.triangle)) > 0;
+}
+
+namespace {
+
+/// The smallest corner angle of triangle (a, b, c), in radians (0 if degenerate).
+double smallestAngle(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    auto angle = [](const Vec3 &p, const Vec3 &q, const Vec3 &r) { // at p
+        const Vec3 u = q - p, v = r - p;
+        const double nu = u.norm(), nv = v.norm();
+        if (!(nu > 0) || !(nv > 0)) return 0.0;
+        return std::acos(std::clamp(u.dot(v) / (nu * nv), -1.0, 1.0));
+    };
+    return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+}
+
+/// The triangulation of a loop of corners (no new vertex) whose worst triangle faces
+/// the input best: by dynamic programming over the loop's sub-chains, each triangle
+/// scored by the cosine between its vector area and the input's normal at the point
+/// nearest its centroid (-1 if twice its area along that normal is below `minArea`
+/// or a side it cuts is `joined`); empty unless every triangle's score is positive.
+/// Triangles that all face one way on a surface patch cover the loop's inside once,
+/// so no test for overlaps is needed.
+std::vector<std::vector<int>> facingTriangulation(const std::vector<int> &loop, const std::vector<Vec3> &positions,
+                                                  const field::Mesh &input, const AabbTree &inputTree,
+                                                  const std::function<bool(int, int)> &joined, double minArea) {
+    const int n = int(loop.size());
+    if (n < 3) return {};
+    auto score = [&](int i, int k, int j) { // triangle (loop[i], loop[k], loop[j]), i < k < j
+        const std::vector<int> t = {loop[size_t(i)], loop[size_t(k)], loop[size_t(j)]};
+        for (auto [x, y] : {std::pair{i, k}, std::pair{k, j}, std::pair{i, j}}) {
+            const bool side = y == x + 1 || (x == 0 && y == n - 1);
+            if (!side && joined(loop[size_t(x)], loop[size_t(y)])) return -1.0;
+        }
+        const Vec3 c = (positions[size_t(t[0])] + positions[size_t(t[1])] + positions[size_t(t[2])]) / 3.0;
+        const ClosestPoint cp = inputTree.closest(c);
+        const Vec3 a = vectorArea(t, positions);
+        if (cp.triangle < 0 || !(a.norm() > 0)) return -1.0;
+        const double along = a.dot(input.faceNormal(cp.triangle));
+        return along < minArea ? -1.0 : along / a.norm();
+    };
+    // best[i][j]: the worst score of the best triangulation of the chain i..j (j - i >= 2).
+    std::vector<double> best(size_t(n * n), 1.0);
+    std::vector<int> apex(size_t(n * n), -1);
+    for (int len = 2; len < n; ++len)
+        for (int i = 0; i + len < n; ++i) {
+            const int j = i + len;
+            double b = -2;
+            for (int k = i + 1; k < j; ++k) {
+                double v = score(i, k, j);
+                if (k - i >= 2) v = std::min(v, best[size_t(i * n + k)]);
+                if (j - k >= 2) v = std::min(v, best[size_t(k * n + j)]);
+                if (v > b) b = v, apex[size_t(i * n + j)] = k;
+            }
+            best[size_t(i * n + j)] = b;
+        }
+    if (!(best[size_t(n - 1)] > 0)) return {};
+    std::vector<std::vector<int>> tris;
+    std::vector<std::pair<int, int>> chains = {{0, n - 1}};
+    while (!chains.empty()) {
+        const auto [i, j] = chains.back();
+        chains.pop_back();
+        const int k = apex[size_t(i * n + j)];
+        tris.push_back({loop[size_t(i)], loop[size_t(k)], loop[size_t(j)]});
+        if (k - i >= 2) chains.push_back({i, k});
+        if (j - k >= 2) chains.push_back({k, j});
+    }
+    return tris;
+}
+
+} // namespace
+
+std::vector<std::vector<int>> fillHole(const std::vector<int> &hole, std::vector<Vec3> &positions,
+                                       const field::Mesh &input, const AabbTree &inputTree,
+                                       const std::function<bool(int, int)> &joined, bool &byEars) {
+    byEars = false;
+    Vec3 c = Vec3::Zero();
+    for (int x : hole) c += positions[size_t(x)];
+    const int centre = int(positions.size());
+    positions.push_back(inputTree.closest(c / double(hole.size())).point);
+    std::vector<std::vector<int>> fan;
+    bool fanFaces = true;
+    for (size_t k = 0; k < hole.size(); ++k) {
+        fan.push_back({centre, hole[k], hole[(k + 1) % hole.size()]});
+        fanFaces = fanFaces && facesInput(fan.back(), positions, input, inputTree);
+    }
+    if (fanFaces) return fan;
+    std::vector<std::vector<int>> ears = facingTriangulation(hole, positions, input, inputTree, joined, 0.0);
+    if (ears.empty()) return fan;
+    positions.pop_back(); // no centre
+    byEars = true;
+    return ears;
 }
 
 int untangleFlipped(const std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
@@ -377,6 +471,217 @@ int collapseFoldedDiagonals(std::vector<std::vector<int>> &polygons, std::vector
     }
     removeMarked(polygons, gone);
     return collapsed;
+}
+
+namespace {
+
+/// The boundary of a set of faces as one loop (its corners in order, the faces on
+/// its left), or empty if the boundary is not one loop through no vertex twice.
+std::vector<int> boundaryLoop(const std::vector<int> &patch, const std::vector<std::vector<int>> &polygons) {
+    std::map<std::pair<int, int>, int> directed;
+    for (int f : patch) {
+        const std::vector<int> &P = polygons[size_t(f)];
+        for (size_t k = 0; k < P.size(); ++k) ++directed[{P[k], P[(k + 1) % P.size()]}];
+    }
+    std::map<int, int> next;
+    for (const auto &[e, n] : directed) {
+        if (n != 1) return {};
+        if (directed.count({e.second, e.first})) continue;
+        if (!next.emplace(e.first, e.second).second) return {}; // through a vertex twice
+    }
+    if (next.empty()) return {};
+    std::vector<int> loop = {next.begin()->first};
+    for (int v = next.at(loop[0]); v != loop[0]; v = next.at(v)) {
+        if (loop.size() > next.size() || !next.count(v)) return {};
+        loop.push_back(v);
+    }
+    return loop.size() == next.size() ? loop : std::vector<int>{};
+}
+
+/// Whether each triangle faces the input with twice its area along the input's normal
+/// at least `minArea`; and their smallest angle (radians) in `angle`.
+bool soundTriangles(const std::vector<std::vector<int>> &tris, const std::vector<Vec3> &positions,
+                    const field::Mesh &input, const AabbTree &inputTree, double minArea, double &angle) {
+    angle = std::numeric_limits<double>::infinity();
+    for (const std::vector<int> &t : tris) {
+        const Vec3 c = (positions[size_t(t[0])] + positions[size_t(t[1])] + positions[size_t(t[2])]) / 3.0;
+        const ClosestPoint cp = inputTree.closest(c);
+        if (cp.triangle < 0 || vectorArea(t, positions).dot(input.faceNormal(cp.triangle)) < minArea) return false;
+        angle = std::min(angle, smallestAngle(positions[size_t(t[0])], positions[size_t(t[1])], positions[size_t(t[2])]));
+    }
+    return true;
+}
+
+} // namespace
+
+int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                         const field::Mesh &input, const AabbTree &inputTree, double L,
+                         const std::function<bool(size_t)> &fixed) {
+    constexpr int kRefillRounds = 2;
+    constexpr double kDegenerateArea = 1e-5, kRefillMinArea = 1e-4; // twice the area, in L²
+    constexpr double kRefillReach = 0.5;                              // the distance, L/2 at L = 1 %
+    const double minArea = kRefillMinArea * L * L;
+    int refilled = 0;
+    for (int round = 0; round < kRefillRounds; ++round) {
+        std::unordered_map<uint64_t, int> faceOf; // directed edge -> face
+        std::vector<std::vector<int>> facesOf(positions.size());
+        auto add = [&](int f) {
+            const std::vector<int> &P = polygons[size_t(f)];
+            for (size_t k = 0; k < P.size(); ++k) {
+                faceOf[directedEdgeKey(P[k], P[(k + 1) % P.size()])] = f;
+                facesOf[size_t(P[k])].push_back(f);
+            }
+        };
+        for (int f = 0; f < int(polygons.size()); ++f) add(f);
+        std::vector<char> gone(polygons.size(), 0);
+        auto bad = [&](int f) {
+            const std::vector<int> &P = polygons[size_t(f)];
+            return !facesInput(P, positions, input, inputTree) || vectorArea(P, positions).norm() < kDegenerateArea * L * L;
+        };
+        // The faces at the corners of `patch`'s faces, `patch` included, sorted.
+        auto grow = [&](const std::vector<int> &patch) {
+            std::vector<int> out = patch;
+            for (int g : patch)
+                for (int v : polygons[size_t(g)])
+                    for (int h : facesOf[size_t(v)])
+                        if (!gone[size_t(h)]) out.push_back(h);
+            std::sort(out.begin(), out.end());
+            out.erase(std::unique(out.begin(), out.end()), out.end());
+            return out;
+        };
+        int refilledNow = 0;
+        const int nFaces = int(polygons.size());
+        for (int f = 0; f < nFaces; ++f) {
+            if (gone[size_t(f)] || !bad(f)) continue;
+            const std::vector<int> &P = polygons[size_t(f)];
+            // Patches, smallest first: the face and those across its sides; those at
+            // its corners; those at their corners.
+            std::vector<int> acrossSides = {f};
+            for (size_t k = 0; k < P.size(); ++k) {
+                const auto it = faceOf.find(directedEdgeKey(P[(k + 1) % P.size()], P[k]));
+                if (it != faceOf.end() && !gone[size_t(it->second)]) acrossSides.push_back(it->second);
+            }
+            std::sort(acrossSides.begin(), acrossSides.end());
+            acrossSides.erase(std::unique(acrossSides.begin(), acrossSides.end()), acrossSides.end());
+            const std::vector<int> atCorners = grow({f}), beyond = grow(atCorners);
+            // Last, the faces across the sides of the first patch's faces: a patch
+            // that grows along a tangle but not round a feature corner beside it.
+            std::vector<int> acrossTwice = acrossSides;
+            for (int g : acrossSides) {
+                const std::vector<int> &G = polygons[size_t(g)];
+                for (size_t k = 0; k < G.size(); ++k) {
+                    const auto it = faceOf.find(directedEdgeKey(G[(k + 1) % G.size()], G[k]));
+                    if (it != faceOf.end() && !gone[size_t(it->second)]) acrossTwice.push_back(it->second);
+                }
+            }
+            std::sort(acrossTwice.begin(), acrossTwice.end());
+            acrossTwice.erase(std::unique(acrossTwice.begin(), acrossTwice.end()), acrossTwice.end());
+            const std::array<const std::vector<int> *, 4> patches = {&acrossSides, &atCorners, &beyond, &acrossTwice};
+            // Fixed vertices inside a patch are kept (a fan from one) unless no patch
+            // can be refilled so: then they may go (a tangle on a crease).
+            bool done = false;
+            for (int pass = 0; pass < 8 && !done; ++pass) {
+                const bool keepFixed = pass < 4;
+                const std::vector<int> *patch = patches[size_t(pass % 4)];
+                const std::vector<int> loop = boundaryLoop(*patch, polygons);
+                if (loop.size() < 3) continue;
+                // A disk (V - E + F = 1), with at most one fixed vertex inside.
+                std::set<int> vertices;
+                std::set<std::pair<int, int>> edges;
+                for (int g : *patch) {
+                    const std::vector<int> &G = polygons[size_t(g)];
+                    for (size_t k = 0; k < G.size(); ++k) {
+                        vertices.insert(G[k]);
+                        const int a = G[k], b = G[(k + 1) % G.size()];
+                        edges.insert({std::min(a, b), std::max(a, b)});
+                    }
+                }
+                if (int(vertices.size()) - int(edges.size()) + int(patch->size()) != 1) continue;
+                const std::set<int> onLoop(loop.begin(), loop.end());
+                std::vector<int> inside, fixedInside;
+                for (int v : vertices)
+                    if (!onLoop.count(v)) {
+                        inside.push_back(v);
+                        if (fixed(size_t(v))) fixedInside.push_back(v);
+                    }
+                if (!keepFixed) fixedInside.clear();
+                else if (fixedInside.size() > 1) continue;
+                // A new side may not be an edge outside the patch (the patch's own go).
+                const std::function<bool(int, int)> joined = [&](int a, int b) {
+                    if (edges.count({std::min(a, b), std::max(a, b)})) return false;
+                    return faceOf.count(directedEdgeKey(a, b)) > 0 || faceOf.count(directedEdgeKey(b, a)) > 0;
+                };
+                auto fanFrom = [&](int centre) {
+                    std::vector<std::vector<int>> fan;
+                    for (size_t k = 0; k < loop.size(); ++k) fan.push_back({centre, loop[k], loop[(k + 1) % loop.size()]});
+                    return fan;
+                };
+                // Candidates: (without a fixed vertex inside) the triangulation of the
+                // loop and the fan from a new centre; the fan from each vertex inside
+                // (the fixed one only, if there is one). The sound one with the largest
+                // smallest angle wins.
+                std::vector<std::vector<int>> best;
+                double bestAngle = -1, angle = 0;
+                // The vertices that go lie on the input: each must stay within
+                // kRefillReach L of the new triangles (else a corner of the input, a
+                // tip, would be cut off).
+                auto keepsInside = [&](const std::vector<std::vector<int>> &tris) {
+                    for (int v : inside) {
+                        bool stays = false, near = false;
+                        for (const std::vector<int> &t : tris) {
+                            stays = stays || std::find(t.begin(), t.end(), v) != t.end();
+                            const Vec3 &x = positions[size_t(v)];
+                            near = near || (x - closestPointOnTriangle(x, positions[size_t(t[0])], positions[size_t(t[1])],
+                                                                       positions[size_t(t[2])]))
+                                                   .norm() <= kRefillReach * L;
+                        }
+                        if (!stays && !near) return false;
+                    }
+                    return true;
+                };
+                auto consider = [&](const std::vector<std::vector<int>> &tris) {
+                    if (!tris.empty() && soundTriangles(tris, positions, input, inputTree, minArea, angle) &&
+                        angle > bestAngle && keepsInside(tris))
+                        best = tris, bestAngle = angle;
+                };
+                if (fixedInside.empty()) consider(facingTriangulation(loop, positions, input, inputTree, joined, minArea));
+                for (int v : fixedInside.empty() ? inside : fixedInside) consider(fanFrom(v));
+                bool newCentre = false;
+                if (fixedInside.empty()) {
+                    Vec3 c = Vec3::Zero();
+                    for (int v : loop) c += positions[size_t(v)];
+                    positions.push_back(inputTree.closest(c / double(loop.size())).point);
+                    const double before = bestAngle;
+                    consider(fanFrom(int(positions.size()) - 1));
+                    newCentre = bestAngle > before;
+                    if (!newCentre) positions.pop_back();
+                }
+                if (best.empty()) continue;
+                for (int g : *patch) {
+                    const std::vector<int> &G = polygons[size_t(g)];
+                    for (size_t k = 0; k < G.size(); ++k) faceOf.erase(directedEdgeKey(G[k], G[(k + 1) % G.size()]));
+                    gone[size_t(g)] = 1;
+                }
+                for (int v : vertices) { // the faces gone no longer listed
+                    std::vector<int> &list = facesOf[size_t(v)];
+                    list.erase(std::remove_if(list.begin(), list.end(), [&](int g) { return gone[size_t(g)] != 0; }),
+                               list.end());
+                }
+                facesOf.resize(positions.size());
+                for (std::vector<int> &t : best) {
+                    polygons.push_back(std::move(t));
+                    gone.push_back(0);
+                    add(int(polygons.size()) - 1);
+                }
+                ++refilledNow;
+                done = true;
+            }
+        }
+        removeMarked(polygons, gone);
+        refilled += refilledNow;
+        if (refilledNow == 0) break;
+    }
+    return refilled;
 }
 
 } // namespace rosy::remesh

@@ -54,6 +54,20 @@ Vec3 vectorArea(const std::vector<int> &poly, const std::vector<Vec3> &positions
 bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const field::Mesh &input,
                 const AabbTree &inputTree);
 
+/// A hole (a traced face with more sides than a face may have) filled with triangles.
+/// The fan from its centroid put on the input (`inputTree.closest`, appended to
+/// `positions`) is kept when every triangle of it faces the input (facesInput), as
+/// before. A hole that is not star-shaped from that point (an L-shaped face on a
+/// flat part of a CAD model: the fan triangles beyond the inner corner turn over)
+/// is cut into triangles between its own corners instead: of all such cuts whose
+/// new sides are no edges yet (`joined`), the one whose worst triangle faces the
+/// input best (the cosine between its normal and the input's at the point nearest
+/// its centroid), if every triangle of it faces the input; else the fan stays.
+/// Returns the triangles (counter-clockwise like the hole); `byEars` says which way.
+std::vector<std::vector<int>> fillHole(const std::vector<int> &hole, std::vector<Vec3> &positions,
+                                       const field::Mesh &input, const AabbTree &inputTree,
+                                       const std::function<bool(int, int)> &joined, bool &byEars);
+
 /// Flipped faces (not facesInput) are untangled where moving one of their corners
 /// mends them: a sliver whose middle corner lies on the line of the other two (its
 /// orientation is rounding), a corner pulled across its neighbour by the repairs
@@ -93,5 +107,29 @@ int absorbFlippedTriangles(std::vector<std::vector<int>> &polygons, const std::v
 int collapseFoldedDiagonals(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
                             const field::Mesh &input, const AabbTree &inputTree, double maxDiagonal,
                             const std::function<bool(size_t)> &fixed);
+
+/// What is still flipped (not facesInput) or degenerate (twice its area below
+/// 10⁻⁵ L²) after the steps above — a face folded where the lattice crosses itself,
+/// a fan over a hole turned over, a face on a part or across a gap thinner than its
+/// own sag — is cut out with the faces around it and the hole filled again. The
+/// patch is the face and the faces across its sides, else the faces at its corners,
+/// else the faces at their corners, else the faces across the sides of the first
+/// patch's faces; it must be a disk (one boundary loop through no
+/// vertex twice, V − E + F = 1). Its boundary is filled with the cut between its
+/// own corners facing the input best (fillHole's), with the fan from the input
+/// point nearest the boundary's centroid, or with the fan from one of the vertices
+/// inside it; a candidate counts if every triangle faces the input with twice its
+/// area along the input's normal at least 10⁻⁴ L², no new side is an edge outside
+/// the patch, and every vertex that goes lies within L/2 of the new triangles (the
+/// issue's distance bound at 1 %: a corner of the input is not cut off); of those,
+/// the one whose smallest angle is largest. `fixed` vertices inside a patch stay
+/// (only the fan from one, if it is the only one) unless no patch can be refilled
+/// that way. A disk replaced by a disk on the same boundary keeps the mesh closed,
+/// manifold, oriented and its Euler characteristic; the vertices inside go (but
+/// the fan's centre). Faces in index order, up to two rounds; returns how many
+/// patches were refilled.
+int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                         const field::Mesh &input, const AabbTree &inputTree, double L,
+                         const std::function<bool(size_t)> &fixed);
 
 } // namespace rosy::remesh

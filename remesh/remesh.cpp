@@ -2246,6 +2246,12 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     };
     std::vector<std::vector<int>> polygons;
     std::vector<Vec3> positions = cp;
+    // The sides a hole's ears may not take: the graph's edges and the ears' cuts so far.
+    int holesByEars = 0;
+    std::set<std::pair<int, int>> holeDiagonals;
+    const std::function<bool(int, int)> joined = [&](int a, int b) {
+        return graph[size_t(a)].count(b) > 0 || holeDiagonals.count({std::min(a, b), std::max(a, b)}) > 0;
+    };
     for (const std::vector<int> &face : faces) {
             // A face through a vertex twice is two loops meeting there: split it.
             std::vector<std::vector<int>> loops{face};
@@ -2275,13 +2281,15 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                     polygons.push_back(f);
                     continue;
                 }
-                // A hole: a fan of triangles around its centroid put on the surface.
-                Vec3 c = Vec3::Zero();
-                for (int x : f) c += cp[x];
-                const int centre = int(positions.size());
-                positions.push_back(tree.closest(c / double(f.size())).point);
-                for (size_t k2 = 0; k2 < f.size(); ++k2) polygons.push_back({centre, f[k2], f[(k2 + 1) % f.size()]});
+                // A hole: a fan of triangles around its centroid put on the surface,
+                // or cut into ears where that fan would turn over (fillHole).
+                bool byEars = false;
+                for (std::vector<int> &t : fillHole(f, positions, mesh, tree, joined, byEars)) {
+                    if (byEars) holeDiagonals.insert({std::min(t[0], t[2]), std::max(t[0], t[2])});
+                    polygons.push_back(std::move(t));
+                }
                 ++holes;
+                holesByEars += byEars;
             }
         }
     result.repairs["faces_split"] = split;
@@ -2318,6 +2326,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.timingsMs["distance_repair"] = msSince(th);
     if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
+    result.repairs["holes_filled_by_ears"] = holesByEars;
     result.repairs["faces_dropped"] = dropped;
 
     // A face traced through a vertex twice was split there into two loops, which
@@ -2333,6 +2342,16 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         onFeature);
     if (result.repairs["folded_diagonals_collapsed"] > 0) // a corner between the ends may have two neighbours left
         dissolveValence2Again();
+    // A corner of a refilled patch may be left with two neighbours; dissolving it can
+    // turn a triangle over again (joint at 1 %: one), which a second pass mends.
+    int refilled = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        const int now = refillFlippedPatches(polygons, positions, mesh, tree, options.edgeLength, onFeature);
+        refilled += now;
+        if (now == 0) break;
+        dissolveValence2Again();
+    }
+    result.repairs["flipped_patches_refilled"] = refilled;
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);

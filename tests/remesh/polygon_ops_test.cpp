@@ -6,6 +6,7 @@
 #include "remesh/polygon_ops.h"
 
 #include "remesh/aabb_tree.h"
+#include "field/primitives.h"
 
 #include <gtest/gtest.h>
 
@@ -268,6 +269,74 @@ TEST(CollapseFoldedDiagonals, EndsWithAnotherCommonNeighbourStay) {
     std::vector<Vec3> y = x;
     EXPECT_EQ(collapseFoldedDiagonals(P, y, plane, tree, 0.5, [](size_t) { return false; }), 0);
     EXPECT_EQ(P, start);
+}
+
+// A hole shaped like a thin L (arms 4 long and 0.5 wide, eight corners) on the plane
+// z = 0: its centroid lies in the notch, outside it, so the fan from there turns
+// the triangles over the notch's sides over (it is what fillHole kept before, and
+// what left flipped quads on CGAL's anchor, joint and rotor). It is cut into ears:
+// no new vertex, every triangle facing +z, together covering the L once.
+TEST(FillHole, AThinLIsCutIntoEarsNotFannedFromOutside) {
+    const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {5, -1, 0}, {5, 5, 0}, {-1, 5, 0}},
+                                                          {{0, 1, 2}, {0, 2, 3}}, "plane");
+    const AabbTree tree(plane);
+    const std::vector<Vec3> start = {{0, 0, 0}, {2, 0, 0},   {4, 0, 0}, {4, 0.5, 0},
+                                     {0.5, 0.5, 0}, {0.5, 4, 0}, {0, 4, 0}, {0, 2, 0}};
+    const std::vector<int> hole = {0, 1, 2, 3, 4, 5, 6, 7};
+    auto signedArea = [](const std::vector<int> &t, const std::vector<Vec3> &x) { return 0.5 * vectorArea(t, x).z(); };
+    // The fan from the centroid turns over.
+    std::vector<Vec3> withCentre = start;
+    Vec3 c = Vec3::Zero();
+    for (const Vec3 &p : start) c += p;
+    withCentre.push_back(c / 8.0);
+    ASSERT_LT(signedArea({8, 3, 4}, withCentre), 0);
+
+    std::vector<Vec3> x = start;
+    bool byEars = false;
+    const Polygons tris = fillHole(hole, x, plane, tree, [](int, int) { return false; }, byEars);
+    EXPECT_TRUE(byEars);
+    EXPECT_EQ(x.size(), start.size()); // no centre
+    ASSERT_EQ(tris.size(), 6u);
+    double area = 0;
+    for (const auto &t : tris) {
+        EXPECT_GT(signedArea(t, x), 0);
+        area += signedArea(t, x);
+    }
+    EXPECT_NEAR(area, signedArea(hole, x), 1e-12); // 3.75: each point of the L covered once
+
+    // A convex hole keeps its fan, as before.
+    std::vector<Vec3> y = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}, {0, 2, 0}, {0, 1, 0}};
+    const Polygons fan = fillHole(hole, y, plane, tree, [](int, int) { return false; }, byEars);
+    EXPECT_FALSE(byEars);
+    EXPECT_EQ(fan.size(), 8u);
+    EXPECT_EQ(y.size(), 9u);
+}
+
+// A closed cube (4 × 4 grid of squares per side, each cut in two) whose top-centre
+// vertex is dragged 0.8 across its ring of radius 0.5: triangles of its fan turn over
+// and moving the vertex back is not allowed (fixed). The patch of the turned faces and
+// those beside them is cut out and filled again around the fixed vertex: nothing
+// flipped, the cube closed, manifold, χ 2.
+TEST(RefillFlippedPatches, ATriangleFanTurnedOverOnACubeIsRefilled) {
+    const field::Mesh cube = field::makeCube(4);
+    const AabbTree tree(cube);
+    std::vector<Vec3> x = cube.positions();
+    Polygons P;
+    for (const field::Face &f : cube.faces()) P.push_back({f[0], f[1], f[2]});
+    int top = -1;
+    for (int v = 0; v < cube.nVertices(); ++v)
+        if ((x[size_t(v)] - Vec3(0, 0, 1)).norm() < 1e-12) top = v;
+    ASSERT_GE(top, 0);
+    x[size_t(top)] = Vec3(0.8, 0.1, 1);
+    int flipped = 0;
+    for (const auto &f : P) flipped += !facesInput(f, x, cube, tree);
+    ASSERT_GT(flipped, 0);
+    const auto fixed = [&](size_t v) { return int(v) == top; };
+    EXPECT_EQ(untangleFlipped(P, x, cube, tree, 0.5, fixed), 0); // the old step cannot
+    EXPECT_GE(refillFlippedPatches(P, x, cube, tree, 0.5, fixed), 1);
+    for (const auto &f : P) EXPECT_TRUE(facesInput(f, x, cube, tree));
+    expectSound(P, 2);
+    EXPECT_TRUE(uses(P, top)); // the fixed vertex is kept: the fan is from it
 }
 
 } // namespace
