@@ -123,7 +123,7 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
         0, g.height,
         [&](int64_t y) {
             // ndl[x * nLights + j]: light j's factor at pixel x, 0 where it adds nothing
-            // (facing away, at the light); ray[...]: index of its shadow ray, or −1.
+            // (facing away, at the light); rayOf[...]: index of its shadow ray, or −1.
             std::vector<double> ndl(size_t(g.width) * nLights, 0.0);
             std::vector<int> rayOf(size_t(g.width) * nLights, -1);
             std::vector<Ray> rays;
