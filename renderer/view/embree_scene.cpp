@@ -70,6 +70,28 @@ void toRtcRay(const Ray &ray, double toEmbree, RTCRay &r) {
     r.id = 0;
     r.flags = 0;
 }
+
+/// Up to 8 rays in Embree's packet layout; lanes past `count` repeat ray 0 and are
+/// switched off in `valid`.
+void toRtcRay8(const Ray *rays, int count, double toEmbree, int *valid, RTCRay8 &r8) {
+    for (int k = 0; k < 8; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        RTCRay r;
+        toRtcRay(rays[k < count ? k : 0], toEmbree, r);
+        r8.org_x[k] = r.org_x;
+        r8.org_y[k] = r.org_y;
+        r8.org_z[k] = r.org_z;
+        r8.dir_x[k] = r.dir_x;
+        r8.dir_y[k] = r.dir_y;
+        r8.dir_z[k] = r.dir_z;
+        r8.tnear[k] = r.tnear;
+        r8.tfar[k] = r.tfar;
+        r8.time[k] = 0.0f;
+        r8.mask[k] = ~0u;
+        r8.id[k] = unsigned(k);
+        r8.flags[k] = 0;
+    }
+}
 } // namespace
 
 RayScene::RayScene(const field::Mesh &mesh) : m_impl(std::make_unique<Impl>()) {
@@ -138,22 +160,8 @@ Hit RayScene::intersect(const Ray &ray) const {
 void RayScene::intersect8(const Ray *rays, int count, Hit *hits) const {
     alignas(32) int valid[8];
     alignas(32) RTCRayHit8 rh;
+    toRtcRay8(rays, count, m_impl->toEmbree, valid, rh.ray);
     for (int k = 0; k < 8; ++k) {
-        valid[k] = k < count ? -1 : 0;
-        RTCRay r;
-        toRtcRay(rays[k < count ? k : 0], m_impl->toEmbree, r);
-        rh.ray.org_x[k] = r.org_x;
-        rh.ray.org_y[k] = r.org_y;
-        rh.ray.org_z[k] = r.org_z;
-        rh.ray.dir_x[k] = r.dir_x;
-        rh.ray.dir_y[k] = r.dir_y;
-        rh.ray.dir_z[k] = r.dir_z;
-        rh.ray.tnear[k] = r.tnear;
-        rh.ray.tfar[k] = r.tfar;
-        rh.ray.time[k] = 0.0f;
-        rh.ray.mask[k] = ~0u;
-        rh.ray.id[k] = unsigned(k);
-        rh.ray.flags[k] = 0;
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
@@ -186,23 +194,7 @@ bool RayScene::occluded(const Ray &ray) const {
 void RayScene::occluded8(const Ray *rays, int count, bool *out) const {
     alignas(32) int valid[8];
     alignas(32) RTCRay8 r8;
-    for (int k = 0; k < 8; ++k) {
-        valid[k] = k < count ? -1 : 0;
-        RTCRay r;
-        toRtcRay(rays[k < count ? k : 0], m_impl->toEmbree, r);
-        r8.org_x[k] = r.org_x;
-        r8.org_y[k] = r.org_y;
-        r8.org_z[k] = r.org_z;
-        r8.dir_x[k] = r.dir_x;
-        r8.dir_y[k] = r.dir_y;
-        r8.dir_z[k] = r.dir_z;
-        r8.tnear[k] = r.tnear;
-        r8.tfar[k] = r.tfar;
-        r8.time[k] = 0.0f;
-        r8.mask[k] = ~0u;
-        r8.id[k] = unsigned(k);
-        r8.flags[k] = 0;
-    }
+    toRtcRay8(rays, count, m_impl->toEmbree, valid, r8);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
