@@ -86,6 +86,14 @@ void warnThinParts(const std::string &output, const remesh::QualityReport &q) {
         std::snprintf(buf, sizeof buf, "chi %d, the input's %d", q.eulerCharacteristic, q.inputEulerCharacteristic);
         add(buf);
     }
+    if (q.components != q.inputComponents) {
+        std::snprintf(buf, sizeof buf, "%d pieces, the input's %d", q.components, q.inputComponents);
+        add(buf);
+    }
+    if (q.genus != q.inputGenus) {
+        std::snprintf(buf, sizeof buf, "genus %d, the input's %d", q.genus, q.inputGenus);
+        add(buf);
+    }
     if (!q.manifold) {
         std::snprintf(buf, sizeof buf, "not manifold: %d edges, %d vertices", q.nonManifoldEdges,
                       q.nonManifoldVertices);

@@ -3,6 +3,7 @@
 
 #include "remesh/polygon_ops.h"
 
+#include "field/mesh/mesh_stats.h"
 #include "field/mesh/union_find.h"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <set>
 #include <unordered_map>
 #include <functional>
@@ -702,6 +704,91 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
         if (refilledNow == 0) break;
     }
     return refilled;
+}
+
+int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
+                      const field::Mesh &input, const AabbTree &inputTree, double L) {
+    if (polygons.empty()) return 0;
+    field::UnionFind pieces(int(positions.size()));
+    for (const std::vector<int> &poly : polygons)
+        for (size_t i = 1; i < poly.size(); ++i) pieces.unite(poly[0], poly[i]);
+    // Pieces numbered by their first face; area and vertices of each.
+    std::vector<int> pieceOfRoot(positions.size(), -1), pieceOfFace(polygons.size());
+    std::vector<double> area;
+    std::vector<std::vector<int>> vertices;
+    std::vector<char> seen(positions.size(), 0);
+    for (size_t f = 0; f < polygons.size(); ++f) {
+        const int root = pieces.find(polygons[f][0]);
+        int &piece = pieceOfRoot[size_t(root)];
+        if (piece < 0) {
+            piece = int(area.size());
+            area.push_back(0.0);
+            vertices.emplace_back();
+        }
+        pieceOfFace[f] = piece;
+        area[size_t(piece)] += 0.5 * vectorArea(polygons[f], positions).norm();
+        for (int v : polygons[f])
+            if (!seen[size_t(v)]) {
+                seen[size_t(v)] = 1;
+                vertices[size_t(piece)].push_back(v);
+            }
+    }
+    const int nPieces = int(area.size());
+    if (nPieces < 2) return 0;
+    int nInput = 0;
+    const std::vector<int> inputComponent = field::faceComponents(input, &nInput);
+    // The input component under most of a piece's vertices (ties: the smaller id).
+    std::vector<int> componentOf(size_t(nPieces), -1);
+    for (int c = 0; c < nPieces; ++c) {
+        std::map<int, int> votes;
+        for (int v : vertices[size_t(c)]) {
+            const int t = inputTree.closest(positions[size_t(v)]).triangle;
+            if (t >= 0) ++votes[inputComponent[size_t(t)]];
+        }
+        int best = -1;
+        for (const auto &[component, n] : votes)
+            if (best < 0 || n > votes[best]) best = component;
+        componentOf[size_t(c)] = best;
+    }
+    std::vector<int> largest(size_t(nInput), -1);
+    for (int c = 0; c < nPieces; ++c) {
+        const int k = componentOf[size_t(c)];
+        if (k >= 0 && (largest[size_t(k)] < 0 || area[size_t(c)] > area[size_t(largest[size_t(k)])]))
+            largest[size_t(k)] = c;
+    }
+    std::vector<char> stray(size_t(nPieces), 0);
+    int candidates = 0;
+    for (int c = 0; c < nPieces; ++c) {
+        const int k = componentOf[size_t(c)];
+        if (k < 0 || largest[size_t(k)] == c || area[size_t(c)] >= kStrayPieceArea * L * L) continue;
+        stray[size_t(c)] = 1;
+        ++candidates;
+    }
+    if (candidates == 0) return 0;
+    // A candidate goes only if the pieces that stay pass within L of every corner
+    // of it: then it adds no surface the output lacks (a tunnel's wall inside a
+    // closed tunnel), whereas a small part of its own somewhere else stays.
+    std::vector<std::array<int, 3>> kept;
+    for (size_t f = 0; f < polygons.size(); ++f)
+        if (!stray[size_t(pieceOfFace[f])])
+            for (size_t i = 1; i + 1 < polygons[f].size(); ++i)
+                kept.push_back({polygons[f][0], polygons[f][i], polygons[f][i + 1]});
+    const AabbTree rest(positions, std::move(kept));
+    int removed = 0;
+    for (int c = 0; c < nPieces; ++c) {
+        if (!stray[size_t(c)]) continue;
+        for (int v : vertices[size_t(c)])
+            if (rest.closest(positions[size_t(v)]).distance2 > L * L) {
+                stray[size_t(c)] = 0;
+                break;
+            }
+        removed += stray[size_t(c)];
+    }
+    if (removed == 0) return 0;
+    std::vector<char> gone(polygons.size(), 0);
+    for (size_t f = 0; f < polygons.size(); ++f) gone[f] = stray[size_t(pieceOfFace[f])];
+    removeMarked(polygons, gone);
+    return removed;
 }
 
 } // namespace rosy::remesh

@@ -132,4 +132,22 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
                          const field::Mesh &input, const AabbTree &inputTree, double L,
                          const std::function<bool(size_t)> &fixed);
 
+/// Area below which a piece of the output is a stray, in L² (removeStrayPieces).
+constexpr double kStrayPieceArea = 16.0;
+
+/// Pieces of the output (connected by shared vertices) that are strays: smaller than
+/// kStrayPieceArea L² and lying on an input component another, larger piece already
+/// covers. Where a tunnel or a gap narrower than L closes, what the lattice keeps of
+/// its wall can be a closed speck of a few faces inside the solid (femur at 1 %:
+/// three pieces of 5 to 10 faces beside the bone), which no input component asks
+/// for. A piece maps to the input component of the input triangle nearest most of
+/// its vertices; the largest piece on each input component stays, and so does any
+/// piece of at least kStrayPieceArea L² (a part cut off at a thin neck is surface the
+/// input has) or with a corner farther than L from every piece that stays (a small
+/// part of its own). Most are two faces back to back, one of them flipped (cube_quad,
+/// torus_quad, corner_with_sharp_edge at 1 %). Removes them from `polygons` (their
+/// vertices are left unused); returns how many pieces went.
+int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
+                      const field::Mesh &input, const AabbTree &inputTree, double L);
+
 } // namespace rosy::remesh

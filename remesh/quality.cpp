@@ -1,6 +1,8 @@
 /// \file quality.cpp
 #include "remesh/quality.h"
 
+#include "field/mesh/mesh_stats.h"
+#include "field/mesh/union_find.h"
 #include "remesh/aabb_tree.h"
 
 #include "core/parallel.h"
@@ -48,6 +50,9 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         for (int h = 0; h < mesh.nHalfedges(); ++h) boundary += mesh.isBoundaryHalfedge(h) ? 1 : 0;
         q.inputBoundaryEdges = boundary;
         q.inputEulerCharacteristic = mesh.nVertices() - mesh.nEdges() + mesh.nFaces();
+        const field::MeshStats stats = field::computeStats(mesh);
+        q.inputComponents = stats.components;
+        q.inputGenus = stats.genus;
     }
 
     // --- edges: (min, max) -> uses in each direction
@@ -130,6 +135,27 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     }
     q.vertices = nP - q.isolatedVertices;
     q.eulerCharacteristic = q.vertices - q.edges + q.faces;
+    {
+        // Pieces through shared vertices; boundary loops as the pieces of the boundary
+        // edges' graph (a loop through a vertex twice counts once: the mesh is then
+        // not manifold, which is reported apart).
+        field::UnionFind pieces(nP), loops(nP);
+        for (const auto &poly : polygons)
+            for (size_t i = 1; i < poly.size(); ++i) pieces.unite(poly[0], poly[i]);
+        for (const auto &[key, use] : edges)
+            if (use.forward + use.backward == 1) loops.unite(key.first, key.second);
+        std::vector<char> pieceRoot(size_t(nP), 0), loopRoot(size_t(nP), 0);
+        int nLoops = 0;
+        for (int v = 0; v < nP; ++v)
+            if (usedVertex[size_t(v)]) pieceRoot[size_t(pieces.find(v))] = 1;
+        for (const auto &[key, use] : edges)
+            if (use.forward + use.backward == 1 && !loopRoot[size_t(loops.find(key.first))]) {
+                loopRoot[size_t(loops.find(key.first))] = 1;
+                ++nLoops;
+            }
+        q.components = int(std::count(pieceRoot.begin(), pieceRoot.end(), 1));
+        q.genus = (2 * q.components - q.eulerCharacteristic - nLoops) / 2;
+    }
     q.manifold = q.nonManifoldEdges == 0 && q.nonManifoldVertices == 0;
     q.oriented = q.inconsistentEdges == 0;
     q.closed = q.boundaryEdges == 0;
@@ -351,6 +377,8 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.field("closed", q.closed).field("manifold", q.manifold).field("oriented", q.oriented);
     json.field("euler_characteristic", q.eulerCharacteristic);
     json.field("input_euler_characteristic", q.inputEulerCharacteristic);
+    json.field("components", q.components).field("input_components", q.inputComponents);
+    json.field("genus", q.genus).field("input_genus", q.inputGenus);
     json.field("boundary_edges", q.boundaryEdges).field("input_boundary_edges", q.inputBoundaryEdges);
     json.field("non_manifold_edges", q.nonManifoldEdges).field("non_manifold_vertices", q.nonManifoldVertices);
     json.field("inconsistent_edges", q.inconsistentEdges).field("isolated_vertices", q.isolatedVertices);

@@ -31,6 +31,11 @@ struct QualityReport {
     int isolatedVertices = 0;
     int eulerCharacteristic = 0, inputEulerCharacteristic = 0;
     int inputBoundaryEdges = 0;
+    /// Pieces connected through shared vertices, and the genus summed over them,
+    /// Σ (2 − χ_c − b_c) / 2 with b_c the boundary loops (as field::computeStats
+    /// counts the input's).
+    int components = 0, inputComponents = 0;
+    int genus = 0, inputGenus = 0;
     bool closed = false, manifold = false, oriented = false;
     // faces
     int degenerateFaces = 0; ///< a repeated vertex, or area below 1e-6 L²
@@ -41,10 +46,11 @@ struct QualityReport {
     static constexpr int kMaxProblems = 8;
     std::vector<Vec3> problems;
     /// The topology the input had is not kept: closed input but open output, another
-    /// Euler characteristic, non-manifold, not oriented, or flipped faces.
+    /// Euler characteristic, number of pieces or genus, non-manifold, not oriented, or
+    /// flipped faces.
     bool topologyLost() const {
-        return (inputBoundaryEdges == 0 && !closed) || eulerCharacteristic != inputEulerCharacteristic || !manifold ||
-               !oriented || flippedFaces > 0;
+        return (inputBoundaryEdges == 0 && !closed) || eulerCharacteristic != inputEulerCharacteristic ||
+               components != inputComponents || genus != inputGenus || !manifold || !oriented || flippedFaces > 0;
     }
     // vertices
     std::map<int, int> valenceHistogram; ///< interior vertices

@@ -2352,6 +2352,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         dissolveValence2Again();
     }
     result.repairs["flipped_patches_refilled"] = refilled;
+    result.repairs["stray_pieces_removed"] =
+        removeStrayPieces(polygons, positions, mesh, tree, options.edgeLength);
 
     // Into OpenMesh; compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);

@@ -339,5 +339,56 @@ TEST(RefillFlippedPatches, ATriangleFanTurnedOverOnACubeIsRefilled) {
     EXPECT_TRUE(uses(P, top)); // the fixed vertex is kept: the fan is from it
 }
 
+// A closed tetrahedron of edge about `size` centred at c, oriented outward.
+void addTetrahedron(Polygons &P, std::vector<Vec3> &x, const Vec3 &c, double size) {
+    const int b = int(x.size());
+    const double h = 0.5 * size;
+    x.push_back(c + Vec3(h, h, h));
+    x.push_back(c + Vec3(h, -h, -h));
+    x.push_back(c + Vec3(-h, h, -h));
+    x.push_back(c + Vec3(-h, -h, h));
+    for (const std::array<int, 3> &t : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}})
+        P.push_back({b + t[0], b + t[1], b + t[2]});
+}
+
+TEST(RemoveStrayPieces, ASpeckOnACoveredComponentGoesAPieceOfItsOwnComponentStays) {
+    // Input: the cube [-1, 1]^3 and a small cube (half-side 0.1) at x = 5.
+    const field::Mesh big = field::makeCube(4), small = field::makeCube(1);
+    std::vector<Vec3> inPoints = big.positions();
+    std::vector<field::Face> inFaces = big.faces();
+    for (const Vec3 &p : small.positions()) inPoints.push_back(0.1 * p + Vec3(5, 0, 0));
+    for (field::Face f : small.faces()) {
+        for (int &v : f) v += big.nVertices();
+        inFaces.push_back(f);
+    }
+    const field::Mesh input = field::Mesh::fromTriangles(inPoints, inFaces);
+    const AabbTree tree(input);
+    const double L = 0.05; // strays are below 16 L² = 0.04
+    // Output: the input's faces, then three more pieces.
+    std::vector<Vec3> x = input.positions();
+    Polygons P;
+    for (const field::Face &f : input.faces()) P.push_back({f[0], f[1], f[2]});
+    const size_t nInput = P.size();
+    const int speck = int(x.size());
+    addTetrahedron(P, x, Vec3(0.2, 0.3, 0.98), 0.05); // a speck on the big cube's top (area 0.004)
+    const int piece = int(x.size());
+    addTetrahedron(P, x, Vec3(-0.5, 0.0, -0.8), 0.5); // a piece of area 0.43 on it: surface, stays
+    const int apart = int(x.size());
+    addTetrahedron(P, x, Vec3(0.0, 0.0, 1.3), 0.05); // as small, but 0.3 (6 L) off the rest: stays
+    // The small cube's faces are the only piece on it and stay, though their area
+    // (0.24) is below the second tetrahedron's.
+    EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 1);
+    ASSERT_EQ(P.size(), nInput + 8);
+    for (size_t f = 0; f < nInput; ++f)
+        EXPECT_EQ(P[f], (std::vector<int>{input.faces()[f][0], input.faces()[f][1], input.faces()[f][2]}));
+    for (int v = speck; v < speck + 4; ++v) EXPECT_FALSE(uses(P, v)) << "the speck's corner " << v;
+    for (int v = piece; v < piece + 4; ++v) EXPECT_TRUE(uses(P, v)) << "the larger piece's corner " << v;
+    for (int v = apart; v < apart + 4; ++v) EXPECT_TRUE(uses(P, v)) << "the piece apart's corner " << v;
+    // Nothing more goes on a second call; a lone piece is never a stray.
+    EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 0);
+    Polygons alone{{speck, speck + 1, speck + 2}};
+    EXPECT_EQ(removeStrayPieces(alone, x, input, tree, L), 0);
+}
+
 } // namespace
 } // namespace rosy::remesh

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace rosy::remesh {
@@ -132,6 +133,8 @@ TEST(Quality, MissingFaceLeavesABoundary) {
     EXPECT_TRUE(q.manifold);
     EXPECT_EQ(q.boundaryEdges, 4);
     EXPECT_EQ(q.eulerCharacteristic, 1);
+    EXPECT_EQ(q.components, 1);
+    EXPECT_EQ(q.genus, 0); // a disk: one boundary loop
     // the missing face's centre is 1 from the nearest output point (a side's centre... at most the half diagonal)
     EXPECT_GT(q.distanceInToOutPct, 10.0);
 }
@@ -161,6 +164,36 @@ TEST(Quality, TwoCubesTouchingAtAVertexAreNonManifold) {
     EXPECT_EQ(q.nonManifoldEdges, 0);
     EXPECT_EQ(q.nonManifoldVertices, 1);
     EXPECT_FALSE(q.manifold);
+}
+
+TEST(Quality, PiecesAndGenusAreCountedWhereTheEulerCharacteristicCannotTell) {
+    // A cube and, beside it, a torus of 4 x 3 quads: χ = 2 + 0, the input cube's, but
+    // two pieces and genus 1 against one piece of genus 0.
+    Fixture fx;
+    auto pts = cubeCorners();
+    auto quads = cubeQuads();
+    const int base = int(pts.size()), nU = 4, nV = 3;
+    for (int i = 0; i < nU; ++i)
+        for (int j = 0; j < nV; ++j) {
+            const double u = 2 * M_PI * i / nU, v = 2 * M_PI * j / nV, r = 3 + 0.5 * std::cos(v);
+            pts.emplace_back(10 + r * std::cos(u), r * std::sin(u), 0.5 * std::sin(v));
+        }
+    auto id = [&](int i, int j) { return base + (i % nU) * nV + (j % nV); };
+    for (int i = 0; i < nU; ++i)
+        for (int j = 0; j < nV; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    const QualityReport q = measureQuality(pts, quads, fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_EQ(q.eulerCharacteristic, q.inputEulerCharacteristic);
+    EXPECT_EQ(q.components, 2);
+    EXPECT_EQ(q.inputComponents, 1);
+    EXPECT_EQ(q.genus, 1);
+    EXPECT_EQ(q.inputGenus, 0);
+    EXPECT_TRUE(q.closed);
+    EXPECT_TRUE(q.topologyLost());
+    // The cube alone keeps all of it.
+    const QualityReport cube = measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_EQ(cube.components, 1);
+    EXPECT_EQ(cube.genus, 0);
+    EXPECT_FALSE(cube.topologyLost());
 }
 
 } // namespace
