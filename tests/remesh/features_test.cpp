@@ -149,6 +149,23 @@ TEST(RemeshFeatures, FemurLeavesNoStraySpecks) {
     EXPECT_TRUE(r.quality.topologyLost()); // genus 0 against 2: not hidden
 }
 
+// CGAL's hand (a fist cut flat at the wrist): on the flat cut, near a singularity,
+// the position field tangled and two unit edges crossed; the faces traced over each
+// other left 2 flipped faces and a handle (χ 0). The crossing edge goes now
+// (RemoveCrossingEdges); this fails on the code before.
+TEST(RemeshFeatures, HandKeepsItsTopologyWhereTheLatticeTangles) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "several times slower under the sanitizers; the Release suite runs it";
+#endif
+    const Mesh mesh = field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/hand.off");
+    const Remeshed r = run(mesh, 0.01, 50);
+    EXPECT_TRUE(r.quality.closed);
+    expectValid(r.quality, 2);
+    EXPECT_EQ(r.quality.components, 1);
+    EXPECT_EQ(r.quality.genus, 0);
+    EXPECT_FALSE(r.quality.topologyLost());
+}
+
 // An open cylinder (radius 1, height 2): the output is open like the input, with
 // its χ (0), and its boundary follows the two rims: every output vertex on an
 // edge with one face lies on a rim (z = ±1 and on the input's 48-gon), and each

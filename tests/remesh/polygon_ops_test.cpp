@@ -207,7 +207,9 @@ TEST(CollapseFoldedDiagonals, AQuadFoldedAlongItsShortDiagonalGoes) {
         for (int i = 0; i < 3; ++i) grid.push_back({j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i});
     ASSERT_FALSE(facesInput(grid[4], start, plane, tree));
     for (size_t f = 0; f < grid.size(); ++f)
-        if (f != 4) ASSERT_TRUE(facesInput(grid[f], start, plane, tree)) << f;
+        if (f != 4) {
+            ASSERT_TRUE(facesInput(grid[f], start, plane, tree)) << f;
+        }
     auto none = [](size_t) { return false; };
     // Both ends fixed (corners of a crease): left alone; a diagonal longer than the limit too.
     {
@@ -231,7 +233,9 @@ TEST(CollapseFoldedDiagonals, AQuadFoldedAlongItsShortDiagonalGoes) {
     std::map<int, int> nextAfter;
     for (const auto &f : P)
         for (size_t k = 0; k < f.size(); ++k)
-            if (f[k] == 5) EXPECT_TRUE(nextAfter.emplace(f[(k + f.size() - 1) % f.size()], f[(k + 1) % f.size()]).second);
+            if (f[k] == 5) {
+                EXPECT_TRUE(nextAfter.emplace(f[(k + f.size() - 1) % f.size()], f[(k + 1) % f.size()]).second);
+            }
     ASSERT_EQ(nextAfter.size(), 6u); // the three other quads at 5 and the three at 10
     int steps = 0;
     for (int w = nextAfter.begin()->first; steps < 7; ++steps) {
@@ -388,6 +392,39 @@ TEST(RemoveStrayPieces, ASpeckOnACoveredComponentGoesAPieceOfItsOwnComponentStay
     EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 0);
     Polygons alone{{speck, speck + 1, speck + 2}};
     EXPECT_EQ(removeStrayPieces(alone, x, input, tree, L), 0);
+}
+
+// The unit square's sides and both diagonals, in the plane z = 0 (normals +z): the
+// diagonals cross, one of them goes, the sides stay.
+TEST(RemoveCrossingEdges, OneOfTwoCrossingDiagonalsGoesTheSidesStay) {
+    const std::vector<Vec3> x = {Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    const std::vector<Vec3> n(4, Vec3(0, 0, 1));
+    auto square = [] {
+        std::vector<std::set<int>> g(4);
+        for (auto [a, b] : std::vector<std::pair<int, int>>{{0, 2}, {2, 1}, {1, 3}, {3, 0}, {0, 1}, {2, 3}}) {
+            g[size_t(a)].insert(b);
+            g[size_t(b)].insert(a);
+        }
+        return g;
+    };
+    std::vector<std::set<int>> g = square();
+    EXPECT_EQ(removeCrossingEdges(g, x, n, {}, 1.0), 1);
+    EXPECT_NE(g[0].count(1), g[2].count(3)) << "exactly one diagonal is left";
+    for (auto [a, b] : std::vector<std::pair<int, int>>{{0, 2}, {2, 1}, {1, 3}, {3, 0}})
+        EXPECT_TRUE(g[size_t(a)].count(b) && g[size_t(b)].count(a)) << a << "-" << b;
+    // A feature vertex at 0 keeps the diagonal 0-1: 2-3 goes.
+    g = square();
+    EXPECT_EQ(removeCrossingEdges(g, x, n, {1, 0, 0, 0}, 1.0), 1);
+    EXPECT_TRUE(g[0].count(1));
+    EXPECT_FALSE(g[2].count(3));
+    // Feature vertices on both: neither goes.
+    g = square();
+    EXPECT_EQ(removeCrossingEdges(g, x, n, {1, 0, 1, 0}, 1.0), 0);
+    // The same drawing on two sheets (2 and 3 facing the other way, as across a thin
+    // part): no crossing on the surface.
+    g = square();
+    const std::vector<Vec3> sheets = {Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(0, 0, -1)};
+    EXPECT_EQ(removeCrossingEdges(g, x, sheets, {}, 1.0), 0);
 }
 
 } // namespace
