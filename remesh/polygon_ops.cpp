@@ -706,62 +706,59 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
     return refilled;
 }
 
-int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<Vec3> &cp, const std::vector<Vec3> &cn,
-                        const std::vector<char> &featureVertex, double L, const std::vector<char> *only) {
-    // Any unit vector perpendicular to n (the crossing test does not depend on which).
-    auto perpendicularUnit = [](const Vec3 &n) {
-        const Vec3 t = std::abs(n.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-        return Vec3(n.cross(t).normalized());
-    };
+void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &cp, const std::vector<Vec3> &cn,
+                     const std::function<void(int, int, int, int)> &visit) {
     const int nC = int(graph.size());
+    // Projected to the plane normal to n, the orientation of (p, q, r) is the sign of
+    // ((q − p) × (r − p)) · n: the sides are tested first, the patch only for a crossing.
     auto crosses = [&](int a, int b, int c, int d) {
-        Vec3 n = cn[size_t(a)] + cn[size_t(b)];
-        if (!(n.norm() > 0)) return false;
-        n.normalize();
+        const Vec3 n = cn[size_t(a)] + cn[size_t(b)];
+        auto orient = [&](int p, int q, int r) {
+            return (cp[size_t(q)] - cp[size_t(p)]).cross(cp[size_t(r)] - cp[size_t(p)]).dot(n);
+        };
+        auto apart = [](double s, double t) { return (s > 0 && t < 0) || (s < 0 && t > 0); };
+        if (!apart(orient(a, b, c), orient(a, b, d)) || !apart(orient(c, d, a), orient(c, d, b))) return false;
+        const Vec3 unit = n.normalized();
         const Vec3 o = 0.5 * (cp[size_t(a)] + cp[size_t(b)]);
         const double nearPlane = 0.25 * (cp[size_t(a)] - cp[size_t(b)]).norm();
         for (int v : {a, b, c, d})
-            if (cn[size_t(v)].dot(n) < 0.9 || std::abs((cp[size_t(v)] - o).dot(n)) > nearPlane) return false;
-        const Vec3 e1 = perpendicularUnit(n), e2 = n.cross(e1);
-        auto flat = [&](int v) {
-            const Vec3 r = cp[size_t(v)] - o;
-            return Eigen::Vector2d(r.dot(e1), r.dot(e2));
-        };
-        const Eigen::Vector2d A = flat(a), B = flat(b), C = flat(c), D = flat(d);
-        auto orient = [](const Eigen::Vector2d &p, const Eigen::Vector2d &q, const Eigen::Vector2d &r) {
-            return (q.x() - p.x()) * (r.y() - p.y()) - (q.y() - p.y()) * (r.x() - p.x());
-        };
-        auto apart = [](double s, double t) { return (s > 0 && t < 0) || (s < 0 && t > 0); };
-        return apart(orient(A, B, C), orient(A, B, D)) && apart(orient(C, D, A), orient(C, D, B));
+            if (cn[size_t(v)].dot(unit) < 0.9 || std::abs((cp[size_t(v)] - o).dot(unit)) > nearPlane) return false;
+        return true;
     };
-    auto feature = [&](int x, int y) {
-        return !featureVertex.empty() && (featureVertex[size_t(x)] || featureVertex[size_t(y)]);
-    };
-    std::set<std::pair<int, int>> drop; // decided on the graph as extracted, then removed
-    std::set<std::pair<int, int>> tested;
+    std::vector<std::pair<int, int>> tested;
     for (int a = 0; a < nC; ++a)
         for (int b : graph[size_t(a)]) {
             if (b <= a) continue;
-            const double lab = std::abs((cp[size_t(a)] - cp[size_t(b)]).norm() - L);
             tested.clear();
             for (int s : {a, b})
                 for (int c : graph[size_t(s)])
                     for (int d : graph[size_t(c)]) {
                         if (c == a || c == b || d == a || d == b) continue;
                         const std::pair<int, int> cd{std::min(c, d), std::max(c, d)};
-                        if (!tested.insert(cd).second) continue;
-                        if (only && !(*only)[size_t(a)] && !(*only)[size_t(b)] && !(*only)[size_t(c)] && !(*only)[size_t(d)])
-                            continue;
-                        if (!crosses(a, b, c, d)) continue;
-                        const bool fab = feature(a, b), fcd = feature(c, d);
-                        if (fab && fcd) continue;
-                        const double lcd = std::abs((cp[size_t(c)] - cp[size_t(d)]).norm() - L);
-                        if (fcd || (!fab && (lab > lcd || (lab == lcd && std::make_pair(a, b) > cd))))
-                            drop.insert({a, b});
-                        else
-                            drop.insert(cd);
+                        if (std::find(tested.begin(), tested.end(), cd) != tested.end()) continue;
+                        tested.push_back(cd);
+                        if (crosses(a, b, c, d)) visit(a, b, cd.first, cd.second);
                     }
         }
+}
+
+int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<Vec3> &cp, const std::vector<Vec3> &cn,
+                        const std::vector<char> &featureVertex, double L, const std::vector<char> *only) {
+    auto feature = [&](int x, int y) {
+        return !featureVertex.empty() && (featureVertex[size_t(x)] || featureVertex[size_t(y)]);
+    };
+    std::set<std::pair<int, int>> drop; // decided on the graph as it is, then removed
+    forEachCrossing(graph, cp, cn, [&](int a, int b, int c, int d) {
+        if (only && !(*only)[size_t(a)] && !(*only)[size_t(b)] && !(*only)[size_t(c)] && !(*only)[size_t(d)]) return;
+        const bool fab = feature(a, b), fcd = feature(c, d);
+        if (fab && fcd) return;
+        const double lab = std::abs((cp[size_t(a)] - cp[size_t(b)]).norm() - L);
+        const double lcd = std::abs((cp[size_t(c)] - cp[size_t(d)]).norm() - L);
+        if (fcd || (!fab && (lab > lcd || (lab == lcd && std::make_pair(a, b) > std::make_pair(c, d)))))
+            drop.insert({a, b});
+        else
+            drop.insert({c, d});
+    });
     for (const auto &[a, b] : drop) {
         graph[size_t(a)].erase(b);
         graph[size_t(b)].erase(a);

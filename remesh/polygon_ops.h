@@ -151,6 +151,12 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
 /// faces it traced that turn from the input and of its holes, since crossings
 /// elsewhere (at a dislocation of a torus's lattice) trace sound faces, and
 /// removing them costs distance (torus at L = 3 %: 0.36 → 0.50 %).
+/// Calls visit(a, b, c, d) for every pair of graph edges (a, b), (c, d) (a < b,
+/// c < d) that removeCrossingEdges() counts as crossing, each pair once per edge
+/// (a, b) it is found from.
+void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
+                     const std::vector<Vec3> &normals, const std::function<void(int, int, int, int)> &visit);
+
 int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
                         const std::vector<Vec3> &normals, const std::vector<char> &featureVertex, double L,
                         const std::vector<char> *only = nullptr);

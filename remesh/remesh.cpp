@@ -2229,16 +2229,24 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         // face that does not face the input, or a hole (more sides than a face may
         // have: where a tangle's faces overlap, the loop around them), has its crossing
         // edges removed, and the faces are traced again.
+        // Only faces at a crossing are looked at (a closest-point query each).
         int uncrossedNow = 0;
         {
-            std::vector<char> turned(static_cast<size_t>(nC), 0);
-            bool any = false;
-            for (const std::vector<int> &f : faces)
-                if (int(f.size()) > maxSides || !facesInput(f, cp, mesh, tree)) {
-                    for (int x : f) turned[size_t(x)] = 1;
-                    any = true;
+            std::vector<char> crossing(static_cast<size_t>(nC), 0), turned(static_cast<size_t>(nC), 0);
+            bool anyCrossing = false, anyTurned = false;
+            forEachCrossing(graph, cp, cn, [&](int a, int b, int c, int d) {
+                for (int x : {a, b, c, d}) crossing[size_t(x)] = 1;
+                anyCrossing = true;
+            });
+            if (anyCrossing)
+                for (const std::vector<int> &f : faces) {
+                    if (std::none_of(f.begin(), f.end(), [&](int x) { return crossing[size_t(x)] != 0; })) continue;
+                    if (int(f.size()) > maxSides || !facesInput(f, cp, mesh, tree)) {
+                        for (int x : f) turned[size_t(x)] = 1;
+                        anyTurned = true;
+                    }
                 }
-            if (any) uncrossedNow = removeCrossingEdges(graph, cp, cn, featureVertex, options.edgeLength, &turned);
+            if (anyTurned) uncrossedNow = removeCrossingEdges(graph, cp, cn, featureVertex, options.edgeLength, &turned);
             uncrossed += uncrossedNow;
         }
         if (bridge.empty() && releasedNow == 0 && uncrossedNow == 0) break;
