@@ -133,6 +133,12 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
                          const field::Mesh &input, const AabbTree &inputTree, double L,
                          const std::function<bool(size_t)> &fixed);
 
+/// Calls visit(a, b, c, d) for every pair of graph edges (a, b), (c, d) (a < b,
+/// c < d) that cross on the surface as removeCrossingEdges() tests it, each pair
+/// once per edge (a, b) it is found from.
+void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
+                     const std::vector<Vec3> &normals, const std::function<void(int, int, int, int)> &visit);
+
 /// Edges of the remesher's graph (`graph[v]`, the neighbours of output vertex v at
 /// `positions[v]` with unit `normals[v]`) that cross another on the surface are
 /// removed; returns how many. Where the position field tangles (near a singularity
@@ -144,19 +150,13 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
 /// normal to its ends' mean normal, when all four lie near that plane (within a
 /// quarter of |ab|, normals within 25° of its normal), so that the test is not made
 /// across a thin part, a crease or a feature corner (where removing crossings cut
-/// CGAL's corner.off's corner off: 0.53 → 1.19 %); of a crossing pair, the edge whose length is further from
-/// L goes, but never an edge with a feature vertex at one end (then the other one
-/// goes, and neither if both have one; `featureVertex` may be empty). With `only`,
-/// just the pairs with a marked vertex: the remesher marks the corners of the
-/// faces it traced that turn from the input and of its holes, since crossings
-/// elsewhere (at a dislocation of a torus's lattice) trace sound faces, and
-/// removing them costs distance (torus at L = 3 %: 0.36 → 0.50 %).
-/// Calls visit(a, b, c, d) for every pair of graph edges (a, b), (c, d) (a < b,
-/// c < d) that removeCrossingEdges() counts as crossing, each pair once per edge
-/// (a, b) it is found from.
-void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
-                     const std::vector<Vec3> &normals, const std::function<void(int, int, int, int)> &visit);
-
+/// CGAL's corner.off's corner off: 0.53 → 1.19 %); of a crossing pair, the edge
+/// whose length is further from L goes, but never an edge with a feature vertex at
+/// one end (then the other one goes, and neither if both have one; `featureVertex`
+/// may be empty). With `only`, just the pairs with a marked vertex: the remesher
+/// marks the corners of the faces it traced that turn from the input and of its
+/// holes, since crossings elsewhere (at a dislocation of a torus's lattice) trace
+/// sound faces, and removing them costs distance (torus at L = 3 %: 0.36 → 0.50 %).
 int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
                         const std::vector<Vec3> &normals, const std::vector<char> &featureVertex, double L,
                         const std::vector<char> *only = nullptr);
