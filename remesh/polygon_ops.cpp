@@ -706,8 +706,9 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
     return refilled;
 }
 
-void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &cp, const std::vector<Vec3> &cn,
-                     const std::function<void(int, int, int, int)> &visit) {
+std::vector<EdgeCrossing> findCrossingEdges(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &cp,
+                                           const std::vector<Vec3> &cn) {
+    std::vector<EdgeCrossing> found;
     const int nC = int(graph.size());
     // Projected to the plane normal to n, the orientation of (p, q, r) is the sign of
     // ((q − p) × (r − p)) · n: the sides are tested first, the patch only for a crossing.
@@ -737,28 +738,31 @@ void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<
                         const std::pair<int, int> cd{std::min(c, d), std::max(c, d)};
                         if (std::find(tested.begin(), tested.end(), cd) != tested.end()) continue;
                         tested.push_back(cd);
-                        if (crosses(a, b, c, d)) visit(a, b, cd.first, cd.second);
+                        if (crosses(a, b, c, d)) found.push_back({a, b, cd.first, cd.second});
                     }
         }
+    return found;
 }
 
-int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<Vec3> &cp, const std::vector<Vec3> &cn,
-                        const std::vector<char> &featureVertex, double L, const std::vector<char> *only) {
+int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<EdgeCrossing> &crossings,
+                        const std::vector<Vec3> &cp, const std::vector<char> &featureVertex, double L,
+                        const std::vector<char> *only) {
     auto feature = [&](int x, int y) {
         return !featureVertex.empty() && (featureVertex[size_t(x)] || featureVertex[size_t(y)]);
     };
+    auto marked = [&](int x) { return !only || (*only)[size_t(x)]; };
     std::set<std::pair<int, int>> drop; // decided on the graph as it is, then removed
-    forEachCrossing(graph, cp, cn, [&](int a, int b, int c, int d) {
-        if (only && !(*only)[size_t(a)] && !(*only)[size_t(b)] && !(*only)[size_t(c)] && !(*only)[size_t(d)]) return;
+    for (const auto &[a, b, c, d] : crossings) {
+        if (!marked(a) && !marked(b) && !marked(c) && !marked(d)) continue;
         const bool fab = feature(a, b), fcd = feature(c, d);
-        if (fab && fcd) return;
+        if (fab && fcd) continue;
         const double lab = std::abs((cp[size_t(a)] - cp[size_t(b)]).norm() - L);
         const double lcd = std::abs((cp[size_t(c)] - cp[size_t(d)]).norm() - L);
         if (fcd || (!fab && (lab > lcd || (lab == lcd && std::make_pair(a, b) > std::make_pair(c, d)))))
             drop.insert({a, b});
         else
             drop.insert({c, d});
-    });
+    }
     for (const auto &[a, b] : drop) {
         graph[size_t(a)].erase(b);
         graph[size_t(b)].erase(a);

@@ -133,15 +133,21 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
                          const field::Mesh &input, const AabbTree &inputTree, double L,
                          const std::function<bool(size_t)> &fixed);
 
-/// Calls visit(a, b, c, d) for every pair of graph edges (a, b), (c, d) (a < b,
-/// c < d) that cross on the surface as removeCrossingEdges() tests it, each pair
-/// once per edge (a, b) it is found from.
-void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
-                     const std::vector<Vec3> &normals, const std::function<void(int, int, int, int)> &visit);
+/// Two edges of the remesher's graph, (a, b) and (c, d) with a < b and c < d, that
+/// cross on the surface as removeCrossingEdges() tests it.
+struct EdgeCrossing {
+    int a, b, c, d;
+};
 
-/// Edges of the remesher's graph (`graph[v]`, the neighbours of output vertex v at
-/// `positions[v]` with unit `normals[v]`) that cross another on the surface are
-/// removed; returns how many. Where the position field tangles (near a singularity
+/// Every crossing pair of `graph` (output vertex v at `positions[v]`, unit `normals[v]`),
+/// each once per edge (a, b) it is found from; the test is described at
+/// removeCrossingEdges().
+std::vector<EdgeCrossing> findCrossingEdges(const std::vector<std::set<int>> &graph,
+                                           const std::vector<Vec3> &positions, const std::vector<Vec3> &normals);
+
+/// Of each pair in `crossings` (findCrossingEdges()), one edge of the remesher's graph
+/// (`graph[v]`, the neighbours of output vertex v at `positions[v]`) is removed;
+/// returns how many edges went. Where the position field tangles (near a singularity
 /// on a flat part: the bottom of CGAL's hand, where five output vertices fell
 /// within L/2 of each other), two unit edges can cross; the rotation system then
 /// traces faces lying over each other, some flipped, and a handle through them
@@ -153,12 +159,13 @@ void forEachCrossing(const std::vector<std::set<int>> &graph, const std::vector<
 /// CGAL's corner.off's corner off: 0.53 → 1.19 %); of a crossing pair, the edge
 /// whose length is further from L goes, but never an edge with a feature vertex at
 /// one end (then the other one goes, and neither if both have one; `featureVertex`
-/// may be empty). With `only`, just the pairs with a marked vertex: the remesher
+/// may be empty; a vertex is one where it is not 0). With `only`, just the pairs
+/// with a marked vertex: the remesher
 /// marks the corners of the faces it traced that turn from the input and of its
 /// holes, since crossings elsewhere (at a dislocation of a torus's lattice) trace
 /// sound faces, and removing them costs distance (torus at L = 3 %: 0.36 → 0.50 %).
-int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<Vec3> &positions,
-                        const std::vector<Vec3> &normals, const std::vector<char> &featureVertex, double L,
+int removeCrossingEdges(std::vector<std::set<int>> &graph, const std::vector<EdgeCrossing> &crossings,
+                        const std::vector<Vec3> &positions, const std::vector<char> &featureVertex, double L,
                         const std::vector<char> *only = nullptr);
 
 /// Area below which a piece of the output is a stray, in L² (removeStrayPieces).

@@ -2097,9 +2097,6 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         }
         result.repairs["boundary_corners_joined"] = joined;
     }
-    std::vector<char> featureVertex;
-    if (features)
-        for (char k : cKind) featureVertex.push_back(k != 0);
     int uncrossed = 0;
     // Clean the graph: no dangling edges, no vertex of degree 2 (it would be a
     // valence-2 vertex between two faces): its two edges become one. Then sort
@@ -2232,21 +2229,22 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         // Only faces at a crossing are looked at (a closest-point query each).
         int uncrossedNow = 0;
         {
+            const std::vector<EdgeCrossing> crossings = findCrossingEdges(graph, cp, cn);
             std::vector<char> crossing(static_cast<size_t>(nC), 0), turned(static_cast<size_t>(nC), 0);
-            bool anyCrossing = false, anyTurned = false;
-            forEachCrossing(graph, cp, cn, [&](int a, int b, int c, int d) {
+            for (const auto &[a, b, c, d] : crossings)
                 for (int x : {a, b, c, d}) crossing[size_t(x)] = 1;
-                anyCrossing = true;
-            });
-            if (anyCrossing)
-                for (const std::vector<int> &f : faces) {
-                    if (std::none_of(f.begin(), f.end(), [&](int x) { return crossing[size_t(x)] != 0; })) continue;
-                    if (int(f.size()) > maxSides || !facesInput(f, cp, mesh, tree)) {
-                        for (int x : f) turned[size_t(x)] = 1;
-                        anyTurned = true;
-                    }
+            bool anyTurned = false;
+            for (size_t k = 0; k < faces.size() && !crossings.empty(); ++k) {
+                const std::vector<int> &f = faces[k];
+                if (std::none_of(f.begin(), f.end(), [&](int x) { return crossing[size_t(x)] != 0; })) continue;
+                if (int(f.size()) > maxSides || !facesInput(f, cp, mesh, tree)) {
+                    for (int x : f) turned[size_t(x)] = 1;
+                    anyTurned = true;
                 }
-            if (anyTurned) uncrossedNow = removeCrossingEdges(graph, cp, cn, featureVertex, options.edgeLength, &turned);
+            }
+            // cKind (0: no feature) is empty without features, as removeCrossingEdges takes it.
+            if (anyTurned)
+                uncrossedNow = removeCrossingEdges(graph, crossings, cp, cKind, options.edgeLength, &turned);
             uncrossed += uncrossedNow;
         }
         if (bridge.empty() && releasedNow == 0 && uncrossedNow == 0) break;

@@ -38,6 +38,11 @@ Remeshed run(const Mesh &mesh, double relativeEdge, double angleDeg) {
     return helpers::remeshAndMeasure(mesh, spec, opt, relativeEdge);
 }
 
+// A CGAL sample mesh from data/meshes (tools/setup.sh) remeshed at L = 1 %.
+Remeshed runSample(const std::string &file) {
+    return run(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/" + file), 0.01, 50);
+}
+
 double segmentDistance(const Vec3 &x, const Vec3 &a, const Vec3 &b) {
     const Vec3 d = b - a;
     const double t = std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
@@ -124,8 +129,7 @@ TEST(RemeshFeatures, ManHasNoFlippedOrDegenerateFace) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "about ten times slower under the sanitizers; the Release suite runs it";
 #endif
-    const Mesh mesh = field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/man.off");
-    const Remeshed r = run(mesh, 0.01, 50);
+    const Remeshed r = runSample("man.off");
     EXPECT_TRUE(r.quality.closed);
     expectValid(r.quality, 2);
     EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
@@ -139,8 +143,7 @@ TEST(RemeshFeatures, FemurLeavesNoStraySpecks) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "several times slower under the sanitizers; the Release suite runs it";
 #endif
-    const Mesh mesh = field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/femur.off");
-    const Remeshed r = run(mesh, 0.01, 50);
+    const Remeshed r = runSample("femur.off");
     EXPECT_EQ(r.quality.components, 1);
     EXPECT_EQ(r.quality.inputComponents, 1);
     EXPECT_EQ(r.quality.inputGenus, 2);
@@ -157,8 +160,7 @@ TEST(RemeshFeatures, HandKeepsItsTopologyWhereTheLatticeTangles) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "several times slower under the sanitizers; the Release suite runs it";
 #endif
-    const Mesh mesh = field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/hand.off");
-    const Remeshed r = run(mesh, 0.01, 50);
+    const Remeshed r = runSample("hand.off");
     EXPECT_TRUE(r.quality.closed);
     expectValid(r.quality, 2);
     EXPECT_EQ(r.quality.components, 1);

@@ -408,23 +408,23 @@ TEST(RemoveCrossingEdges, OneOfTwoCrossingDiagonalsGoesTheSidesStay) {
         return g;
     };
     std::vector<std::set<int>> g = square();
-    EXPECT_EQ(removeCrossingEdges(g, x, n, {}, 1.0), 1);
+    EXPECT_EQ(removeCrossingEdges(g, findCrossingEdges(g, x, n), x, {}, 1.0), 1);
     EXPECT_NE(g[0].count(1), g[2].count(3)) << "exactly one diagonal is left";
     for (auto [a, b] : std::vector<std::pair<int, int>>{{0, 2}, {2, 1}, {1, 3}, {3, 0}})
         EXPECT_TRUE(g[size_t(a)].count(b) && g[size_t(b)].count(a)) << a << "-" << b;
     // A feature vertex at 0 keeps the diagonal 0-1: 2-3 goes.
     g = square();
-    EXPECT_EQ(removeCrossingEdges(g, x, n, {1, 0, 0, 0}, 1.0), 1);
+    EXPECT_EQ(removeCrossingEdges(g, findCrossingEdges(g, x, n), x, {1, 0, 0, 0}, 1.0), 1);
     EXPECT_TRUE(g[0].count(1));
     EXPECT_FALSE(g[2].count(3));
     // Feature vertices on both: neither goes.
     g = square();
-    EXPECT_EQ(removeCrossingEdges(g, x, n, {1, 0, 1, 0}, 1.0), 0);
+    EXPECT_EQ(removeCrossingEdges(g, findCrossingEdges(g, x, n), x, {1, 0, 1, 0}, 1.0), 0);
     // The same drawing on two sheets (2 and 3 facing the other way, as across a thin
     // part): no crossing on the surface.
     g = square();
     const std::vector<Vec3> sheets = {Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(0, 0, -1)};
-    EXPECT_EQ(removeCrossingEdges(g, x, sheets, {}, 1.0), 0);
+    EXPECT_EQ(removeCrossingEdges(g, findCrossingEdges(g, x, sheets), x, {}, 1.0), 0);
 }
 
 } // namespace
