@@ -3,23 +3,29 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/UmfPackSupport>
 
-#include <mutex>
 #include <stdexcept>
 #include <string>
 
-// OpenBLAS (Debian's default BLAS behind CHOLMOD when installed) threads its
-// kernels; a different thread count may change rounding. Pin it to one thread
-// when it is the BLAS in use (weak: absent with the reference BLAS).
+// OpenBLAS (Debian's default BLAS behind UMFPACK when installed) threads its
+// kernels, and a different thread count may change rounding, so BLAS runs on one
+// thread. Its pool is started by the library's constructor, before main(), and
+// an idle worker spins in sched_yield() for about 2^28 cycles (0.1 s) before it
+// sleeps: on a two-core machine a core taken from the first 0.1 s of every run
+// (the mesh load, measured: 0.1 s of system time per `rosyhatch render`). So the
+// pool is shut down when this file's statics are initialized, after OpenBLAS's
+// constructor and before main(). Weak: absent with the reference BLAS. (Calling
+// openblas_set_num_threads() again after the shutdown would restart the pool.)
 extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+extern "C" int blas_thread_shutdown_() __attribute__((weak));
 
 namespace rosy::field {
 namespace {
-void pinBlasThreads() {
-    static std::once_flag once;
-    std::call_once(once, [] {
-        if (openblas_set_num_threads) openblas_set_num_threads(1);
-    });
+bool releaseBlasThreads() {
+    if (openblas_set_num_threads) openblas_set_num_threads(1);
+    if (blas_thread_shutdown_) blas_thread_shutdown_();
+    return true;
 }
+[[maybe_unused]] const bool kBlasThreadsReleased = releaseBlasThreads();
 } // namespace
 
 void throwDegenerateGeometry(const FileLoc &where, const std::string &what, const SolverFailure &cause) {
@@ -49,7 +55,6 @@ Eigen::VectorXcd HermitianSolver::solve(const Eigen::VectorXcd &rhs) const {
 }
 
 Eigen::VectorXcd solveGeneral(const SparseMatrixC &matrix, const Eigen::VectorXcd &rhs) {
-    pinBlasThreads();
     Eigen::UmfPackLU<SparseMatrixC> lu;
     lu.compute(matrix);
     if (lu.info() != Eigen::Success)
