@@ -9,6 +9,7 @@
 #include "core/parallel.h"
 #include "field/features.h"
 #include "field/laplacian.h"
+#include "field/mesh/morton.h"
 #include "field/mesh/union_find.h"
 #include "remesh/aabb_tree.h"
 #include "remesh/polygon_ops.h"
@@ -942,24 +943,6 @@ struct alignas(64) SweepNode {
     double s, s2;    ///< lattice spacings along q and n×q
 };
 
-/// A 63-bit Morton code of p in the box [lo, lo + 1/scale]³ (21 bits per axis).
-uint64_t mortonCode(const Vec3 &p, const Vec3 &lo, double scale) {
-    auto spread = [](uint64_t x) { // bits of x to every third bit
-        x &= 0x1fffff;
-        x = (x | x << 32) & 0x1f00000000ffffULL;
-        x = (x | x << 16) & 0x1f0000ff0000ffULL;
-        x = (x | x << 8) & 0x100f00f00f00f00fULL;
-        x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-        x = (x | x << 2) & 0x1249249249249249ULL;
-        return x;
-    };
-    uint64_t c[3];
-    for (int k = 0; k < 3; ++k) {
-        const double t = (p[k] - lo[k]) * scale * 2097151.0;
-        c[k] = t > 0 ? uint64_t(std::min(t, 2097151.0)) : 0; // NaN -> 0: no undefined conversion
-    }
-    return spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2;
-}
 
 /// What sweepSquares needs of a level's topology, in the Morton order of its
 /// positions: made in the hierarchy stage, before the spacings are known.
@@ -981,7 +964,7 @@ SweepPlan planSweeps(const Level &L, const std::vector<std::vector<int>> &classe
     const double scale = extent > 0 ? 1 / extent : 1.0;
     std::vector<std::pair<uint64_t, int>> &order = plan.order;
     order.resize(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) order[size_t(i)] = {mortonCode(L.p[i], lo, scale), i};
+    for (int i = 0; i < n; ++i) order[size_t(i)] = {field::mortonCode(L.p[i], lo, scale), i};
     std::sort(order.begin(), order.end());
     std::vector<int> slot(static_cast<size_t>(n));
     for (int k = 0; k < n; ++k) slot[size_t(order[size_t(k)].second)] = k;

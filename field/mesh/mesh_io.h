@@ -48,6 +48,12 @@ Mesh loadMesh(const std::string &path, const LoadOptions &options = {},
 /// Builds a clean Mesh from a raw polygon soup with the same repairs as loadMesh().
 /// Polygons (>= 3 vertices) are fan-triangulated from their first vertex after
 /// dropping consecutive repeated indices. `name` is used in messages.
+/// A soup whose vertices are listed in no spatial order (more than half of the face
+/// edges join vertices 4096 or more apart in the numbering: bunny00, scans) is
+/// renumbered along a Morton curve, its faces ordered by their first vertex in the
+/// new numbering (windings kept): what is near on the surface is then near in
+/// memory, about 10 % off a render of bunny00. A soup already in spatial order keeps
+/// its numbering and face order.
 Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<int>> &polygons,
                     const std::string &name, const LoadOptions &options = {},
                     LoadReport *report = nullptr);

@@ -483,3 +483,88 @@ TEST(MeshRepair, NothingLeftIsAnError) {
     EXPECT_THROW(repairAndBuild(kTetraP, {{0, 0, 1}}, "soup"), InputError);
     EXPECT_THROW(repairAndBuild(kTetraP, {}, "soup"), InputError);
 }
+
+namespace {
+
+/// An n × n grid of unit squares (two triangles each, CCW seen from +z), its
+/// vertices listed at index position[k] = grid point stride·k mod n² (stride 1: row
+/// by row; a stride coprime to n² scatters neighbours across the file).
+void scatteredGrid(int n, int stride, std::vector<Vec3> &positions, std::vector<std::vector<int>> &polygons) {
+    const int nV = n * n;
+    std::vector<int> indexOf(size_t(nV), 0);
+    positions.assign(size_t(nV), Vec3::Zero());
+    for (int k = 0; k < nV; ++k) {
+        const int g = int((int64_t(stride) * k) % nV);
+        indexOf[size_t(g)] = k;
+        positions[size_t(k)] = Vec3(g % n, g / n, 0);
+    }
+    polygons.clear();
+    for (int y = 0; y + 1 < n; ++y)
+        for (int x = 0; x + 1 < n; ++x) {
+            const int a = indexOf[size_t(y * n + x)], b = indexOf[size_t(y * n + x + 1)],
+                      c = indexOf[size_t((y + 1) * n + x + 1)], d = indexOf[size_t((y + 1) * n + x)];
+            polygons.push_back({a, b, c});
+            polygons.push_back({a, c, d});
+        }
+}
+
+/// Fraction of face edges joining vertices 4096 or more apart in the numbering.
+double farEdgeFraction(const Mesh &m) {
+    size_t far = 0;
+    for (const Face &f : m.faces())
+        for (int k = 0; k < 3; ++k) far += std::abs(f[size_t(k)] - f[size_t((k + 1) % 3)]) >= 4096;
+    return double(far) / double(3 * m.nFaces());
+}
+
+/// Each face as its three corner positions, rotated to start at the smallest, sorted.
+std::vector<std::array<std::array<double, 3>, 3>> facesByPosition(const Mesh &m) {
+    std::vector<std::array<std::array<double, 3>, 3>> out;
+    for (const Face &f : m.faces()) {
+        std::array<std::array<double, 3>, 3> t;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 &p = m.position(f[size_t(k)]);
+            t[size_t(k)] = {p.x(), p.y(), p.z()};
+        }
+        std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end()); // keeps the winding
+        out.push_back(t);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+} // namespace
+
+TEST(RenumberForLocality, AScatteredFileIsRenumberedIntoSpatialOrderWithTheSameFaces) {
+    // 100 × 100 vertices listed with stride 4099 (coprime to 10 000): almost every face
+    // edge joins vertices thousands apart in the file.
+    std::vector<Vec3> positions;
+    std::vector<std::vector<int>> polygons;
+    scatteredGrid(100, 4099, positions, polygons);
+    const Mesh asListed = repairAndBuild(positions, polygons, "listed", {}, nullptr);
+    // The same faces built without any renumbering: Mesh::fromTriangles on the soup.
+    std::vector<Face> tris;
+    for (const auto &p : polygons) tris.push_back({p[0], p[1], p[2]});
+    const Mesh reference = Mesh::fromTriangles(positions, tris, "reference");
+    ASSERT_GT(farEdgeFraction(reference), 0.5);
+    EXPECT_LT(farEdgeFraction(asListed), 0.05);
+    EXPECT_NE(asListed.positions(), reference.positions()); // renumbered
+    EXPECT_EQ(facesByPosition(asListed), facesByPosition(reference)); // the same faces, windings kept
+    // Faces follow their vertices: by smallest corner, ascending.
+    int last = -1;
+    for (const Face &f : asListed.faces()) {
+        const int lo = std::min({f[0], f[1], f[2]});
+        EXPECT_GE(lo, last);
+        last = lo;
+    }
+}
+
+TEST(RenumberForLocality, AFileInSpatialOrderKeepsItsNumbering) {
+    std::vector<Vec3> positions;
+    std::vector<std::vector<int>> polygons;
+    scatteredGrid(100, 1, positions, polygons);
+    const Mesh m = repairAndBuild(positions, polygons, "rows", {}, nullptr);
+    EXPECT_EQ(m.positions(), positions);
+    ASSERT_EQ(m.nFaces(), int(polygons.size()));
+    for (int f = 0; f < m.nFaces(); ++f)
+        EXPECT_EQ((std::vector<int>{m.face(f)[0], m.face(f)[1], m.face(f)[2]}), polygons[size_t(f)]);
+}
