@@ -506,8 +506,8 @@ void orientFacesConsistently(std::vector<Face> &tris, const FileLoc &loc, LoadRe
 }
 
 /// Vertices this far apart in the numbering are taken to be far apart in memory
-/// (4096 positions are 96 KiB: more than a core's L1 and L2 caches hold of them
-/// beside everything else a loop reads per vertex).
+/// (4096 vertices' positions alone are 96 KiB, more than a core's first-level cache,
+/// and a loop reads several such arrays per vertex).
 constexpr int kFarInMemory = 4096;
 
 /// Does the file list its vertices in no spatial order? More than half of the face
@@ -525,10 +525,10 @@ bool scatteredInMemory(const std::vector<Face> &tris) {
 /// before) and orders the faces by their smallest vertex in the new numbering (ties:
 /// the order before), so that what is near on the surface is near in memory (bunny00:
 /// 64 % of its face edges far apart before, 2 % after). Every per-vertex loop, sparse
-/// product and ray waited on memory before: the render of bunny00 took 0.51 s before
-/// and 0.46 s after, its field 130 ms and 103 ms, the 270k-face stress mesh 1.39 s and
-/// 1.17 s (docs/benchmarks.md). Each face keeps its corners in their order (its
-/// winding and first corner).
+/// product and ray waited on memory before: the render of bunny00 took 0.53 s before
+/// and 0.47 s after, its field stage 124 ms and 105 ms, the 270k-face stress mesh 1.61 s
+/// and 1.27 s (alternating runs, docs/benchmarks.md). Each face keeps its corners in
+/// their order (its winding and first corner).
 void renumberForLocality(std::vector<Vec3> &positions, std::vector<Face> &tris) {
     const int nV = int(positions.size()), nF = int(tris.size());
     if (nV == 0) return;
