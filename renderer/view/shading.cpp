@@ -5,6 +5,7 @@
 #include "core/parallel.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -128,15 +129,22 @@ std::vector<double> shadeLambert(const GBuffer &g, const RayScene &scene, const 
             std::vector<int> rayOf(size_t(g.width) * nLights, -1);
             std::vector<Ray> rays;
             std::vector<uint8_t> blocked;
+            // Each pixel's position and normals, once for all its lights.
+            std::vector<std::array<Vec3, 3>> surface(size_t(g.width));
+            for (int x = 0; x < g.width; ++x) {
+                const size_t i = size_t(g.index(x, int(y)));
+                if (g.faceId[i] < 0) continue;
+                std::array<Vec3, 3> &pnn = surface[size_t(x)];
+                pnn[0] = g.position(i);
+                viewerNormals(g, faceNormals, camera, i, pnn[0], pnn[1], pnn[2]);
+            }
             for (size_t j = 0; j < nLights; ++j) {
                 const Light &L = lights[j];
                 const size_t first = rays.size();
                 for (int x = 0; x < g.width; ++x) {
                     const size_t i = size_t(g.index(x, int(y)));
                     if (g.faceId[i] < 0) continue;
-                    const Vec3 p = g.position(i);
-                    Vec3 n, ng;
-                    viewerNormals(g, faceNormals, camera, i, p, n, ng);
+                    const auto &[p, n, ng] = surface[size_t(x)];
                     Vec3 l;
                     double tMax = std::numeric_limits<double>::infinity();
                     if (L.type == Light::Type::Directional) {
