@@ -3,7 +3,7 @@
 // no repair), builds Embree's BVH with its defaults and casts one primary ray per
 // pixel through a pinhole camera framing the mesh, over rows in parallel (oneTBB,
 // like the renderer); writes nothing. Timed as a whole process against the full
-// render with `farm-bench --vs`.
+// render, the two alternating, by tools/bench.sh ("render against its floor").
 //
 //   render_floor [MESH.off] [RESOLUTION]    (defaults: data/meshes/bunny00.off, 1024)
 

@@ -32,6 +32,17 @@ trap 'rm -rf "$out"' EXIT
 for _ in $(seq "$reps"); do
   /usr/bin/time -f "%e %M" "$build/cli/rosyhatch" render scenes/bunny.yaml -o "$out/bunny.png" --quiet 2>&1 >/dev/null
 done | sort -n | awk '{w[NR]=$1; m=$2} END {printf "median wall %.2f s (min %.2f, max %.2f), peak %.0f MiB\n", w[int((NR+1)/2)], w[1], w[NR], m/1024}'
+echo "== whole process against its floor (issue 17): render_floor and rosyhatch render alternating, $reps rounds, median wall s =="
+cmake --build "$build" -j "${ROSY_JOBS:-2}" --target render_floor >/dev/null
+for _ in $(seq "$reps"); do
+  /usr/bin/time -f "%e" -o "$out/floor" "$build/bench/render_floor" data/meshes/bunny00.off 1024
+  /usr/bin/time -f "%e" -o "$out/render" "$build/cli/rosyhatch" render scenes/bunny.yaml -o "$out/bunny.png" --quiet >/dev/null
+  echo "$(cat "$out/floor") $(cat "$out/render")"
+done | python3 -c '
+import statistics, sys
+rows = [tuple(map(float, l.split())) for l in sys.stdin if l.strip()]
+floor, render = statistics.median(r[0] for r in rows), statistics.median(r[1] for r in rows)
+print(f"floor {floor:.3f} s, render {render:.3f} s: {render / floor:.2f}x the floor")'
 echo "== remesher, bunny00 at L = 1 % (x_field: a multiple of the field stage measured in the same process) =="
 "$build/bench/remesh_bench" "${agg[@]}" 2>/dev/null | grep -E '_median|^Benchmark|^---'
 echo "== whole process: rosyhatch remesh data/meshes/bunny00.off, $reps runs: wall s, peak KiB, total / field stage of the same run =="
