@@ -169,6 +169,42 @@ bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions
     return cp.triangle >= 0 && vectorArea(poly, positions).dot(input.faceNormal(cp.triangle)) > 0;
 }
 
+double farthestFromInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const AabbTree &inputTree,
+                         double L) {
+    double worst = 0;
+    int hint = -1;
+    for (size_t t = 1; t + 1 < poly.size(); ++t)
+        forEachSample(positions[poly[0]], positions[poly[t]], positions[poly[t + 1]], L, [&](const Vec3 &p) {
+            const ClosestPoint cp = inputTree.closest(p, hint);
+            hint = cp.triangle;
+            worst = std::max(worst, cp.distance2);
+        });
+    return std::sqrt(worst);
+}
+
+std::vector<std::vector<int>> cutFarQuad(const std::vector<int> &quad, const std::vector<Vec3> &positions,
+                                         const field::Mesh &input, const AabbTree &inputTree, double L,
+                                         double minHeight, double limit) {
+    if (quad.size() != 4) return {};
+    std::vector<std::vector<int>> best;
+    double bestFar = limit;
+    for (size_t d = 0; d < 2; ++d) {
+        const std::vector<int> t0 = {quad[d], quad[d + 1], quad[(d + 2) % 4]},
+                               t1 = {quad[d], quad[(d + 2) % 4], quad[(d + 3) % 4]};
+        bool sound = true;
+        double far = 0;
+        for (const std::vector<int> *t : {&t0, &t1}) {
+            const Vec3 &a = positions[size_t((*t)[0])], &b = positions[size_t((*t)[1])], &c = positions[size_t((*t)[2])];
+            const double area2 = (b - a).cross(c - a).norm();
+            const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+            sound = sound && area2 >= minHeight * longest && facesInput(*t, positions, input, inputTree);
+            if (sound) far = std::max(far, farthestFromInput(*t, positions, inputTree, L));
+        }
+        if (sound && (far < bestFar || (best.empty() && far <= bestFar))) bestFar = far, best = {t0, t1};
+    }
+    return best;
+}
+
 namespace {
 
 /// The smallest corner angle of triangle (a, b, c), in radians (0 if degenerate).

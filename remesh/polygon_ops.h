@@ -8,6 +8,8 @@
 #include "field/mesh/mesh.h"
 #include "remesh/aabb_tree.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 
@@ -54,6 +56,31 @@ Vec3 vectorArea(const std::vector<int> &poly, const std::vector<Vec3> &positions
 /// vector area points along the normal of the input triangle nearest its centroid.
 bool facesInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const field::Mesh &input,
                 const AabbTree &inputTree);
+
+/// Calls visit(p) for the samples of triangle (a, b, c) the quality report takes: a
+/// barycentric grid of k = ⌈longest side / (L/3)⌉ divisions (1 to 64), row by row.
+template <typename Visit> void forEachSample(const Vec3 &a, const Vec3 &b, const Vec3 &c, double L, Visit &&visit) {
+    const double steps = std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / (L / 3));
+    const int k = steps >= 1 ? int(std::min(steps, 64.0)) : 1; // NaN: 1
+    for (int i = 0; i <= k; ++i)
+        for (int j = 0; i + j <= k; ++j) visit(a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k));
+}
+
+/// The farthest of a polygon's samples from the input (fanned from its first corner,
+/// each triangle sampled as the report samples).
+double farthestFromInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const AabbTree &inputTree,
+                         double L);
+
+/// A quad cut along one of its diagonals into two triangles that both face the input
+/// (facesInput), are no thinner than `minHeight` (smallest altitude) and have no
+/// sample farther from the input than `limit`: of the two diagonals the one whose
+/// farther triangle is nearer, the first on a tie. A quad folded over a ridge or rim
+/// narrower than the lattice — its diagonal along the ridge, its other corners down
+/// either side — has its middle inside the part, its two triangles on the two sides.
+/// Empty when neither diagonal qualifies (or `quad` has not four corners).
+std::vector<std::vector<int>> cutFarQuad(const std::vector<int> &quad, const std::vector<Vec3> &positions,
+                                         const field::Mesh &input, const AabbTree &inputTree, double L,
+                                         double minHeight, double limit);
 
 /// A hole (a traced face with more sides than a face may have) filled with triangles.
 /// The fan from its centroid put on the input (`inputTree.closest`, appended to

@@ -1563,30 +1563,6 @@ std::optional<Vec3> surfaceAlong(const AabbTree &inputTree, const Vec3 &p, const
     return std::nullopt;
 }
 
-/// Calls visit(p) for the samples of triangle (a, b, c) the report takes: a
-/// barycentric grid of k = ⌈longest side / (L/3)⌉ divisions (1 to 64), row by row.
-template <typename Visit> void forEachSample(const Vec3 &a, const Vec3 &b, const Vec3 &c, double L, Visit &&visit) {
-    const double steps = std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / (L / 3));
-    const int k = steps >= 1 ? int(std::min(steps, 64.0)) : 1; // NaN: 1
-    for (int i = 0; i <= k; ++i)
-        for (int j = 0; i + j <= k; ++j) visit(a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k));
-}
-
-/// The farthest of a polygon's samples from the input (fanned from its first corner,
-/// each triangle sampled as the report samples).
-double farthestFromInput(const std::vector<int> &poly, const std::vector<Vec3> &positions, const AabbTree &inputTree,
-                         double L) {
-    double worst = 0;
-    int hint = -1;
-    for (size_t t = 1; t + 1 < poly.size(); ++t)
-        forEachSample(positions[poly[0]], positions[poly[t]], positions[poly[t + 1]], L, [&](const Vec3 &p) {
-            const ClosestPoint cp = inputTree.closest(p, hint);
-            hint = cp.triangle;
-            worst = std::max(worst, cp.distance2);
-        });
-    return std::sqrt(worst);
-}
-
 /// The cut of polygon H by a diagonal from its corner i into two parts whose corners
 /// are nearest 90° (a triangle's 60°), each facing the input and none farther from
 /// it than `limit`; empty if there is none.
@@ -1638,12 +1614,16 @@ std::vector<std::vector<int>> cutFrom(const std::vector<int> &H, int i, const st
 ///    if no fan triangle faces away from the input and none is thinner than
 ///    kFanMinHeight L. The farthest point of each polygon, farthest first, one per
 ///    polygon and round.
+///    A far quad is first tried cut along a diagonal instead (no new vertex): a quad
+///    folded over a rim or a ridge narrower than the lattice, its diagonal along the
+///    ridge and its other corners down either side, leaves its middle inside the part;
+///    its two triangles lie on the two sides (bunny00's ear at L = 0.98 %).
 /// Both keep the mesh closed, manifold and oriented (the new faces cover the old).
 void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const field::Mesh &input,
                   const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed,
                   std::map<std::string, int> &repairs) {
     const double reach = kFarDistance * L;
-    int edgesSplit = 0, fanned = 0, left = 0;
+    int edgesSplit = 0, fanned = 0, quadsCut = 0, left = 0;
     const auto key = directedEdgeKey;
     for (int round = 0; round < kFarRounds; ++round) {
         int made = 0;
@@ -1746,6 +1726,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
         }, 16);
         std::vector<double> worst(polygons.size(), 0.0);
         std::vector<std::vector<Vec3>> target(polygons.size()); // points to try, in order
+        std::vector<char> outputFar(polygons.size(), 0);          // its worst: a sample of its own
         for (int i = 0; i < nIn; ++i) {
             const int f = inPoly[size_t(i)];
             if (f >= 0 && inDist[size_t(i)] > reach && inDist[size_t(i)] > worst[size_t(f)])
@@ -1758,6 +1739,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
             const Vec3 nt = (b - a).cross(c - a);
             if (!(nt.squaredNorm() > 0)) continue;
             worst[f] = outDist[t];
+            outputFar[f] = 1;
             target[f].clear();
             if (const std::optional<Vec3> h = surfaceAlong(inputTree, outSample[t], nt.normalized(), L))
                 target[f].push_back(*h);
@@ -1781,6 +1763,19 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
             std::vector<std::vector<int>> fan;
             bool ok = false;
             const double limit = std::max(reach, 0.9 * farthestFromInput(poly, positions, inputTree, L));
+            if (outputFar[size_t(f)]) {
+                // A far quad is cut along a diagonal if that does (no new vertex); not
+                // for an input vertex far from it, which a cut leaving the quad's own
+                // samples near would be taken for without bringing it nearer.
+                fan = cutFarQuad(poly, positions, input, inputTree, L, kFanMinHeight * L, limit);
+                if (!fan.empty()) {
+                    touched[size_t(f)] = 1;
+                    polygons[size_t(f)] = fan[0];
+                    polygons.push_back(fan[1]), touched.push_back(1);
+                    ++quadsCut, ++made;
+                    continue;
+                }
+            }
             for (const Vec3 &x : target[size_t(f)]) {
                 positions.push_back(x);
                 fan.clear();
@@ -1809,6 +1804,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
     repairs["far_edges_split"] = edgesSplit;
     repairs["far_points_fanned"] = fanned;
     repairs["far_points_left"] = left;
+    repairs["far_quads_cut"] = quadsCut;
 }
 
 } // namespace

@@ -136,6 +136,22 @@ TEST(RemeshFeatures, ManHasNoFlippedOrDegenerateFace) {
     EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
 }
 
+// bunny00 at L = 0.98 %: a quad folded over the ear's top (a rim about 1.8 L thick,
+// not thin by the thin-part rule) left its middle 0.53 % of the diagonal inside the
+// ear, and no fan from the point under it faced the input. The quad is cut along
+// the ridge now (cutFarQuad); this fails on the code before.
+TEST(RemeshFeatures, BunnyEarFoldedQuadIsCutAndTheDistanceHolds) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "several times slower under the sanitizers; the Release suite runs it";
+#endif
+    const Remeshed r = run(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/bunny00.off"), 0.0098, 50);
+    EXPECT_TRUE(r.quality.closed);
+    expectValid(r.quality, 2);
+    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
+    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
+    EXPECT_GE(r.result.repairs.at("far_quads_cut"), 1);
+}
+
 // The femur (CGAL data, genus 2): its tunnels are narrower than L at 1 %, and what
 // the lattice kept of their walls were three closed specks of 5 to 10 faces beside
 // the bone. They go (RemoveStrayPieces); the lost genus is still reported.

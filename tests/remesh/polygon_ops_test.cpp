@@ -429,3 +429,52 @@ TEST(RemoveCrossingEdges, OneOfTwoCrossingDiagonalsGoesTheSidesStay) {
 
 } // namespace
 } // namespace rosy::remesh
+
+namespace rosy::remesh {
+namespace {
+
+// A roof: two planes at 45° meeting in a ridge along x (z = −|y|), faces outward.
+field::Mesh roof() {
+    return field::Mesh::fromTriangles({{-2, 0, 0}, {2, 0, 0}, {-2, 2, -2}, {2, 2, -2}, {-2, -2, -2}, {2, -2, -2}},
+                                      {{0, 1, 3}, {0, 3, 2}, {1, 0, 4}, {1, 4, 5}}, "roof");
+}
+
+TEST(CutFarQuad, AQuadFoldedOverARidgeIsCutAlongTheRidge) {
+    const field::Mesh input = roof();
+    const AabbTree tree(input);
+    // Corners 1 and 3 on the ridge, 0 and 2 down either side: the fan from corner 0
+    // runs its diagonal 0–2 under the ridge, up to 0.8 / √2 = 0.57 from the roof (0.45
+    // at the report's samples), farther than the repair's 0.4 L.
+    const std::vector<Vec3> positions = {{0, 0.8, -0.8}, {-0.6, 0, 0}, {0, -0.8, -0.8}, {0.6, 0, 0}};
+    const std::vector<int> quad = {0, 1, 2, 3};
+    ASSERT_GT(farthestFromInput(quad, positions, tree, 1.0), 0.4);
+    const std::vector<std::vector<int>> cut = cutFarQuad(quad, positions, input, tree, 1.0, 0.1, 0.4);
+    ASSERT_EQ(cut.size(), 2u);
+    EXPECT_EQ(cut[0], (std::vector<int>{1, 2, 3}));
+    EXPECT_EQ(cut[1], (std::vector<int>{1, 3, 0}));
+    for (const auto &t : cut) {
+        EXPECT_LT(farthestFromInput(t, positions, tree, 1.0), 1e-9); // each on its side's plane
+        EXPECT_TRUE(facesInput(t, positions, input, tree));
+    }
+}
+
+TEST(CutFarQuad, AQuadAboveThePlaneOrThinIsNotCutAndATieTakesTheFirstDiagonal) {
+    const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {4, -1, 0}, {4, 4, 0}, {-1, 4, 0}},
+                                                         {{0, 1, 2}, {0, 2, 3}}, "plane");
+    const AabbTree tree(plane);
+    // 0.6 above the plane: no diagonal brings a triangle within 0.4.
+    const std::vector<Vec3> above = {{0, 0, 0.6}, {1, 0, 0.6}, {1, 1, 0.6}, {0, 1, 0.6}};
+    EXPECT_TRUE(cutFarQuad({0, 1, 2, 3}, above, plane, tree, 1.0, 0.1, 0.4).empty());
+    // On the plane both diagonals qualify equally: the first (from corner 0).
+    const std::vector<Vec3> on = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    EXPECT_EQ(cutFarQuad({0, 1, 2, 3}, on, plane, tree, 1.0, 0.1, 0.4),
+              (std::vector<std::vector<int>>{{0, 1, 2}, {0, 2, 3}}));
+    // A sliver (altitudes at most 0.06 under a minimum of 0.1, whichever diagonal) and a
+    // triangle are never cut.
+    const std::vector<Vec3> sliver = {{0, 0, 0}, {1, 0, 0}, {2, 0.05, 0}, {1, 0.06, 0}};
+    EXPECT_TRUE(cutFarQuad({0, 1, 2, 3}, sliver, plane, tree, 1.0, 0.1, 0.4).empty());
+    EXPECT_TRUE(cutFarQuad({0, 1, 2}, on, plane, tree, 1.0, 0.1, 0.4).empty());
+}
+
+} // namespace
+} // namespace rosy::remesh
