@@ -1614,7 +1614,7 @@ std::vector<std::vector<int>> cutFrom(const std::vector<int> &H, int i, const st
 ///    if no fan triangle faces away from the input and none is thinner than
 ///    kFanMinHeight L. The farthest point of each polygon, farthest first, one per
 ///    polygon and round.
-///    A far quad is first tried cut along a diagonal instead (no new vertex): a quad
+///    A far quad no fan mends is cut along a diagonal instead (no new vertex): a quad
 ///    folded over a rim or a ridge narrower than the lattice, its diagonal along the
 ///    ridge and its other corners down either side, leaves its middle inside the part;
 ///    its two triangles lie on the two sides (bunny00's ear at L = 0.98 %).
@@ -1763,19 +1763,6 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
             std::vector<std::vector<int>> fan;
             bool ok = false;
             const double limit = std::max(reach, 0.9 * farthestFromInput(poly, positions, inputTree, L));
-            if (outputFar[size_t(f)]) {
-                // A far quad is cut along a diagonal if that does (no new vertex); not
-                // for an input vertex far from it, which a cut leaving the quad's own
-                // samples near would be taken for without bringing it nearer.
-                fan = cutFarQuad(poly, positions, input, inputTree, L, kFanMinHeight * L, limit);
-                if (!fan.empty()) {
-                    touched[size_t(f)] = 1;
-                    polygons[size_t(f)] = fan[0];
-                    polygons.push_back(fan[1]), touched.push_back(1);
-                    ++quadsCut, ++made;
-                    continue;
-                }
-            }
             for (const Vec3 &x : target[size_t(f)]) {
                 positions.push_back(x);
                 fan.clear();
@@ -1789,6 +1776,19 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                 }
                 if (ok) break;
                 positions.pop_back();
+            }
+            if (!ok && outputFar[size_t(f)]) {
+                // No fan: a far quad is cut along a diagonal if that brings it nearer (no
+                // new vertex). Only for a sample of its own: a cut leaving the quad's own
+                // samples near would be taken without bringing a far input vertex nearer.
+                fan = cutFarQuad(poly, positions, input, inputTree, L, kFanMinHeight * L, limit);
+                if (!fan.empty()) {
+                    touched[size_t(f)] = 1;
+                    polygons[size_t(f)] = fan[0];
+                    polygons.push_back(fan[1]), touched.push_back(1);
+                    ++quadsCut, ++made;
+                    continue;
+                }
             }
             if (!ok) {
                 ++left;
