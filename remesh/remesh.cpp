@@ -1777,27 +1777,22 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                 if (ok) break;
                 positions.pop_back();
             }
+            // No fan: a far quad is cut along a diagonal if that brings it nearer (no new
+            // vertex). Only for a sample of its own: a cut leaving the quad's own samples
+            // near would be taken without bringing a far input vertex nearer.
+            bool cut = false;
             if (!ok && outputFar[size_t(f)]) {
-                // No fan: a far quad is cut along a diagonal if that brings it nearer (no
-                // new vertex). Only for a sample of its own: a cut leaving the quad's own
-                // samples near would be taken without bringing a far input vertex nearer.
                 fan = cutFarQuad(poly, positions, input, inputTree, L, kFanMinHeight * L, limit);
-                if (!fan.empty()) {
-                    touched[size_t(f)] = 1;
-                    polygons[size_t(f)] = fan[0];
-                    polygons.push_back(fan[1]), touched.push_back(1);
-                    ++quadsCut, ++made;
-                    continue;
-                }
+                cut = !fan.empty();
             }
-            if (!ok) {
+            if (!ok && !cut) {
                 ++left;
                 continue;
             }
             touched[size_t(f)] = 1;
             polygons[size_t(f)] = fan[0];
             for (size_t k = 1; k < fan.size(); ++k) polygons.push_back(fan[k]), touched.push_back(1);
-            ++fanned, ++made;
+            ++(cut ? quadsCut : fanned), ++made;
         }
         if (made == 0) break;
     }
