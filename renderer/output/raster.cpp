@@ -116,11 +116,9 @@ struct TileScratch {
 
 } // namespace
 
-InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options) {
+InkLayers blankInkLayers(int width, int height) {
     InkLayers out;
-    if (list.width < 1 || list.height < 1) return out;
-    ROSY_CHECK_GE(options.tileSize, 1);
-    const int width = list.width, height = list.height, tile = options.tileSize;
+    if (width < 1 || height < 1) return out;
     const size_t nPixels = size_t(width) * size_t(height);
     out.width = width;
     out.height = height;
@@ -128,6 +126,24 @@ InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options)
     assignLarge(out.hatch1, nPixels, 0.0f);
     assignLarge(out.contour, nPixels, 0.0f);
     assignLarge(out.hiddenContour, nPixels, 0.0f);
+    return out;
+}
+
+InkLayers rasterizeStrokes(const StrokeList &list, const RasterOptions &options) {
+    return rasterizeStrokes(list, blankInkLayers(list.width, list.height), options);
+}
+
+InkLayers rasterizeStrokes(const StrokeList &list, InkLayers blank, const RasterOptions &options) {
+    InkLayers out = std::move(blank);
+    if (list.width < 1 || list.height < 1) return InkLayers{};
+    ROSY_CHECK_GE(options.tileSize, 1);
+    const int width = list.width, height = list.height, tile = options.tileSize;
+    const size_t nPixels = size_t(width) * size_t(height);
+    // Blank: blankInkLayers() of the list's size, nothing drawn yet.
+    ROSY_CHECK_EQ(out.width, width);
+    ROSY_CHECK_EQ(out.height, height);
+    for (const std::vector<float> *v : {&out.hatch0, &out.hatch1, &out.contour, &out.hiddenContour})
+        ROSY_CHECK_EQ(v->size(), nPixels);
 
     std::vector<uint8_t> strokeLayer;
     const std::vector<Segment> segs = flattenSegments(list.strokes, strokeLayer);
@@ -367,22 +383,42 @@ std::vector<float> paperColors(int width, int height, const styles::Style &style
     return rgb;
 }
 
-Image compositeInk(const InkLayers &layers, const styles::Style &style, const CompositeOptions &options) {
-    const int width = std::max(0, layers.width), height = std::max(0, layers.height);
+Image paperImage(int width, int height, const styles::Style &style, const CompositeOptions &options) {
+    width = std::max(0, width);
+    height = std::max(0, height);
     Image image(width, height, {"R", "G", "B", "A"});
-    // combinedCoverage() and paperColors() per pixel, without either plane in memory.
-    const CoverageOf coverage = coverageOf(layers, options);
     const PaperOf paper(style, options);
     parallelFor(0, height, [&](int64_t y) {
         for (int x = 0; x < width; ++x) {
             const size_t k = size_t(y) * size_t(width) + size_t(x);
-            const float c = coverage(k);
-            float rgb[3];
-            paper(x, y, rgb);
-            // Mixing in linear light: 50 % ink on white paper reflects half the light.
-            for (int ch = 0; ch < 3; ++ch)
-                image.data[4 * k + size_t(ch)] = float(rgb[ch] * (1.0f - c) + style.ink[size_t(ch)] * c);
+            paper(x, y, &image.data[4 * k]);
             image.data[4 * k + 3] = 1.0f;
+        }
+    }, 8);
+    return image;
+}
+
+Image compositeInk(const InkLayers &layers, const styles::Style &style, const CompositeOptions &options) {
+    return compositeInk(layers, style, paperImage(layers.width, layers.height, style, options), options);
+}
+
+Image compositeInk(const InkLayers &layers, const styles::Style &style, Image paper, const CompositeOptions &options) {
+    const int width = std::max(0, layers.width), height = std::max(0, layers.height);
+    Image image = std::move(paper);
+    // paperImage() of the layers' size: R, G, B the paper, A = 1.
+    ROSY_CHECK_EQ(image.width, width);
+    ROSY_CHECK_EQ(image.height, height);
+    ROSY_CHECK_EQ(image.nChannels, 4);
+    // combinedCoverage() per pixel, without the plane in memory, over the paper's
+    // colour as paperColors() gives it (stored as the same floats).
+    const CoverageOf coverage = coverageOf(layers, options);
+    parallelFor(0, height, [&](int64_t y) {
+        for (int x = 0; x < width; ++x) {
+            const size_t k = size_t(y) * size_t(width) + size_t(x);
+            const float c = coverage(k);
+            float *rgb = &image.data[4 * k];
+            // Mixing in linear light: 50 % ink on white paper reflects half the light.
+            for (int ch = 0; ch < 3; ++ch) rgb[ch] = float(rgb[ch] * (1.0f - c) + style.ink[size_t(ch)] * c);
         }
     }, 8);
     return image;

@@ -61,6 +61,16 @@ struct RasterOptions {
 /// \pre every stroke has widths.size() == points.size() (checked: a producer bug).
 InkLayers rasterizeStrokes(const StrokeList &strokes, const RasterOptions &options = {});
 
+/// Zeroed layers of width × height (none if either is < 1): what rasterizeStrokes()
+/// draws into. Made ahead of the strokes, they keep faulting in 16 MiB of fresh
+/// memory out of the raster stage (renderer/illustration.cpp makes them beside the
+/// hatching's sequential tracer).
+InkLayers blankInkLayers(int width, int height);
+
+/// rasterizeStrokes() into `blank`, which must be blankInkLayers(strokes.width,
+/// strokes.height) (checked: a caller bug). The same layers, bit for bit.
+InkLayers rasterizeStrokes(const StrokeList &strokes, InkLayers blank, const RasterOptions &options = {});
+
 /// How the layers become one picture.
 struct CompositeOptions {
     /// Opacity applied to the hidden-contour layer, so occluded lines read as
@@ -87,6 +97,15 @@ std::vector<float> paperColors(int width, int height, const styles::Style &style
 /// the combined coverage. Channels R, G, B (linear) and A = 1; writeImage()
 /// encodes it to 8- or 16-bit sRGB. Empty layers give plain paper.
 Image compositeInk(const InkLayers &layers, const styles::Style &style,
+                   const CompositeOptions &options = {});
+
+/// The paper of compositeInk() without ink: R, G, B = paperColors(), A = 1. It needs
+/// no strokes, so it can be made while they are traced (renderer/illustration.cpp).
+Image paperImage(int width, int height, const styles::Style &style, const CompositeOptions &options = {});
+
+/// compositeInk() over `paper`, which must be paperImage() of the layers' size with
+/// the same style and options (size checked: a caller bug). The same picture, bit for bit.
+Image compositeInk(const InkLayers &layers, const styles::Style &style, Image paper,
                    const CompositeOptions &options = {});
 
 /// Paints one colour over an RGB or RGBA image (linear light) with per-pixel

@@ -322,6 +322,51 @@ TEST(CompositeInk, PaperGrainIsBoundedAndSeeded) {
     for (float v : paperColors(8, 8, style)) EXPECT_EQ(v, 1.0f);
 }
 
+// The paper and the blank layers are made beside the hatching's tracer
+// (renderer/illustration.cpp) and handed to the raster stage: what it draws over
+// them must be paper × (1 − c) + ink × c of the paper's own colours, pixel by pixel.
+TEST(CompositeInk, OverAPaperImageIsThePaperColoursMixedWithTheCoverage) {
+    StrokeList list = randomStrokes(96, 80, 600, 5);
+    InkLayers layers = rasterizeStrokes(list, blankInkLayers(list.width, list.height));
+    rosy::styles::Style style;
+    style.paper = {1.0, 0.93, 0.85};
+    style.ink = {0.15, 0.1, 0.3};
+    style.paperGrain = 0.3;
+    style.seed = 9;
+    const Image paper = paperImage(list.width, list.height, style);
+    const std::vector<float> rgb = paperColors(list.width, list.height, style);
+    const std::vector<float> c = combinedCoverage(layers);
+    ASSERT_EQ(paper.nChannels, 4);
+    Image img = compositeInk(layers, style, paper);
+    size_t inked = 0;
+    for (size_t k = 0; k < c.size(); ++k) {
+        inked += c[k] > 0.0f;
+        EXPECT_EQ(paper.data[4 * k + 3], 1.0f);
+        EXPECT_EQ(img.data[4 * k + 3], 1.0f);
+        for (size_t ch = 0; ch < 3; ++ch) {
+            ASSERT_EQ(paper.data[4 * k + ch], rgb[3 * k + ch]) << "pixel " << k;
+            ASSERT_EQ(img.data[4 * k + ch], float(rgb[3 * k + ch] * (1.0f - c[k]) + style.ink[ch] * c[k]))
+                << "pixel " << k << " channel " << ch;
+        }
+    }
+    EXPECT_GT(inked, c.size() / 10); // the strokes cover a fair share of the picture
+    EXPECT_LT(inked, c.size());
+    // And the same as compositeInk() making its own paper.
+    const Image own = compositeInk(layers, style);
+    EXPECT_EQ(own.data, img.data);
+}
+
+TEST(CompositeInk, LayersOrPaperOfAnotherSizeAreABug) {
+    StrokeList list = randomStrokes(40, 30, 50, 3);
+    EXPECT_THROW(rasterizeStrokes(list, blankInkLayers(30, 40)), rosy::CheckFailure);
+    EXPECT_THROW(rasterizeStrokes(list, InkLayers{}), rosy::CheckFailure);
+    const InkLayers layers = rasterizeStrokes(list, blankInkLayers(40, 30));
+    rosy::styles::Style style;
+    EXPECT_THROW(compositeInk(layers, style, paperImage(40, 29, style)), rosy::CheckFailure);
+    EXPECT_NO_THROW(compositeInk(layers, style, paperImage(40, 30, style)));
+    EXPECT_TRUE(blankInkLayers(0, 5).hatch0.empty());
+}
+
 TEST(InkExrImage, NamedChannelsAndSpacingAttributeReachTheFile) {
     const int w = 6, h = 4;
     const size_t n = size_t(w * h);
