@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace rosy::field {
@@ -409,12 +410,22 @@ Eigen::VectorXcd solveTwoLevelBicgstab(const TangentFrames &frames, int nSym, co
 Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                                       const SparseMatrixC &K, const Eigen::VectorXcd &b,
                                       const Eigen::VectorXcd &guess, double tolerance) {
+    std::optional<TwoLevelPreconditioner> pre;
     try {
-        return solveTwoLevelPcg(frames, nSym, freeId, K, b, guess, tolerance, 1000);
+        pre.emplace(frames, nSym, freeId, K);
     } catch (const SolverFailure &) {
-        // A factorization always works for positive definite K; it is only slower.
-        return HermitianSolver(K).solve(b);
     }
+    return solveHermitianSystem(K, pre ? &*pre : nullptr, b, guess, tolerance);
+}
+
+Eigen::VectorXcd solveHermitianSystem(const SparseMatrixC &K, const TwoLevelPreconditioner *pre,
+                                      const Eigen::VectorXcd &b, const Eigen::VectorXcd &guess, double tolerance) {
+    if (pre) try {
+            return solvePcg(K, *pre, b, guess, tolerance, 1000);
+        } catch (const SolverFailure &) {
+        }
+    // A factorization always works for positive definite K; it is only slower.
+    return HermitianSolver(K).solve(b);
 }
 
 Eigen::VectorXcd solveGeneralSystem(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,

@@ -106,6 +106,13 @@ Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, con
                                       const SparseMatrixC &K, const Eigen::VectorXcd &b,
                                       const Eigen::VectorXcd &guess = {}, double tolerance = kFieldTolerance);
 
+/// The same with the preconditioner of K already built (TwoLevelPreconditioner for
+/// the same frames, N and free vertices), or none where its set-up failed: then
+/// straight to the factorization. The result is the first overload's to the bit.
+Eigen::VectorXcd solveHermitianSystem(const SparseMatrixC &K, const TwoLevelPreconditioner *pre,
+                                      const Eigen::VectorXcd &b, const Eigen::VectorXcd &guess,
+                                      double tolerance = kFieldTolerance);
+
 /// Solves a general field system (the paper's mean-value relaxation); below
 /// 4096 unknowns by UMFPACK's LU (exact, and faster there), otherwise two-level
 /// BiCGSTAB to `tolerance` (27 iterations to 1e-6 on bunny00; restarted GMRES

@@ -480,11 +480,10 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
                         smoothingLength, fixed, fixedValues, tolerance);
 }
 
-RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,
-                       const RosyField &guide, double smoothingLength, const std::vector<char> &fixed,
-                       const Eigen::VectorXcd &fixedValues, std::optional<double> tolerance) {
-    const Mesh &mesh = frames.mesh();
-    const int n = mesh.nVertices();
+namespace {
+
+/// s = 1 / (ℓ d)² of alignedField(), ℓ checked first.
+double alignmentWeight(const Mesh &mesh, double smoothingLength) {
     // s = 1 / (ℓ d)² overflows to infinity for tiny ℓ (1e-200), which the solver
     // would then report as degenerate geometry: name the setting instead.
     if (!(smoothingLength >= kMinSmoothingLength && smoothingLength <= kMaxSmoothingLength))
@@ -494,14 +493,80 @@ RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplaci
                              (std::ostringstream() << kMaxSmoothingLength).str() + "]",
                          "use 0 for the raw curvature directions or a fraction of the bounding-box diagonal "
                          "such as 0.08");
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    const double len = smoothingLength * std::max((hi - lo).norm(), 1e-300);
+    return 1.0 / (len * len);
+}
+
+} // namespace
+
+struct AlignedSystem::Impl {
+    const TangentFrames *frames = nullptr;
+    int nSym = 0;
+    double s = 0;
+    const Eigen::VectorXd *areas = nullptr;
+    SparseMatrixC K;
+    std::vector<int> freeId;
+    /// Absent when its set-up failed (SolverFailure): solveHermitianSystem() then factors K.
+    std::optional<TwoLevelPreconditioner> pre;
+};
+
+AlignedSystem::AlignedSystem(const TangentFrames &frames, const SparseMatrixC &laplacian,
+                             const Eigen::VectorXd &areas, int nSym, double smoothingLength)
+    : m_impl(std::make_unique<Impl>()) {
+    Impl &im = *m_impl;
+    const Mesh &mesh = frames.mesh();
+    const int n = mesh.nVertices();
+    im.frames = &frames;
+    im.nSym = nSym;
+    im.areas = &areas;
+    im.s = alignmentWeight(mesh, smoothingLength);
+    if (n == 0) return;
+    // K = (A + sM), every vertex free.
+    im.K = laplacian;
+    for (int v = 0; v < n; ++v) im.K.coeffRef(v, v) += im.s * areas[v];
+    im.freeId.resize(size_t(n));
+    for (int v = 0; v < n; ++v) im.freeId[size_t(v)] = v;
+    try {
+        im.pre.emplace(frames, nSym, im.freeId, im.K);
+    } catch (const SolverFailure &) {
+    }
+}
+
+AlignedSystem::~AlignedSystem() = default;
+AlignedSystem::AlignedSystem(AlignedSystem &&) noexcept = default;
+AlignedSystem &AlignedSystem::operator=(AlignedSystem &&) noexcept = default;
+
+RosyField AlignedSystem::solve(const RosyField &guide, double tolerance) const {
+    const Impl &im = *m_impl;
+    const int n = im.frames->mesh().nVertices();
+    ROSY_CHECK_EQ(guide.nSym, im.nSym);
+    ROSY_CHECK_EQ(int(guide.u.size()), n);
     RosyField out;
     out.nSym = guide.nSym;
     out.u = Eigen::VectorXcd::Zero(n);
     if (n == 0) return out;
-    Vec3 lo, hi;
-    mesh.bounds(lo, hi);
-    const double len = smoothingLength * std::max((hi - lo).norm(), 1e-300);
-    const double s = 1.0 / (len * len);
+    Eigen::VectorXcd rhs(n);
+    for (int v = 0; v < n; ++v) rhs[v] = im.s * (*im.areas)[v] * guide.u[v];
+    // The guide is a good start for CG.
+    out.u = solveHermitianSystem(im.K, im.pre ? &*im.pre : nullptr, rhs, guide.u, tolerance);
+    return out;
+}
+
+RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,
+                       const RosyField &guide, double smoothingLength, const std::vector<char> &fixed,
+                       const Eigen::VectorXcd &fixedValues, std::optional<double> tolerance) {
+    const Mesh &mesh = frames.mesh();
+    const int n = mesh.nVertices();
+    if (std::none_of(fixed.begin(), fixed.end(), [](char c) { return c != 0; }))
+        return AlignedSystem(frames, laplacian, areas, guide.nSym, smoothingLength)
+            .solve(guide, tolerance.value_or(kFieldTolerance));
+    const double s = alignmentWeight(mesh, smoothingLength);
+    RosyField out;
+    out.nSym = guide.nSym;
+    out.u = Eigen::VectorXcd::Zero(n);
+    if (n == 0) return out;
     const Eigen::VectorXd &m = areas;
 
     std::vector<int> freeId(n, -1);

@@ -12,6 +12,7 @@
 #include "field/rosy.h"
 #include "field/sparse_solver.h"
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -107,5 +108,29 @@ RosyField alignedField(const TangentFrames &frames, const RosyField &guide, doub
 RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,
                        const RosyField &guide, double smoothingLength, const std::vector<char> &fixed = {},
                        const Eigen::VectorXcd &fixedValues = {}, std::optional<double> tolerance = std::nullopt);
+
+/// alignedField() without fixed vertices in two halves: the system, K = A + s M and
+/// its two-level preconditioner, which needs no guide; then solve() for a guide. So
+/// buildField() builds the system beside the curvature that gives the guide. The
+/// field is alignedField()'s to the bit (alignedField() itself goes through here).
+class AlignedSystem {
+public:
+    /// `laplacian` = connectionLaplacian(frames, nSym), `areas` = vertexAreas(frames.mesh()).
+    /// \throws InputError naming the mesh if smoothingLength is outside
+    ///   [kMinSmoothingLength, kMaxSmoothingLength].
+    AlignedSystem(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,
+                  int nSym, double smoothingLength);
+    ~AlignedSystem();
+    AlignedSystem(AlignedSystem &&) noexcept;
+    AlignedSystem &operator=(AlignedSystem &&) noexcept;
+
+    /// The field following `guide` (guide.nSym must be the system's N; checked), to a
+    /// relative residual of `tolerance`.
+    RosyField solve(const RosyField &guide, double tolerance = kFieldTolerance) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
 
 } // namespace rosy::field

@@ -9,6 +9,7 @@
 #include "field/sparse_solver.h"
 
 #include <tbb/global_control.h>
+#include <tbb/parallel_invoke.h>
 
 #include "core/diagnostics.h"
 #include "core/error.h"
@@ -211,6 +212,78 @@ TEST(RelaxationSmooth, ManyStepsKeepTheFieldsLevelAndItsDirections) {
     relaxationSmooth(fr, two, 1, 0.5);
     relaxationSmooth(fr, two, 2, 0.5);
     for (int v = 0; v < m.nVertices(); ++v) EXPECT_EQ(std::arg(one.u[v]), std::arg(two.u[v])) << v;
+}
+
+// buildField() builds the smoothing's system (K = A + s M, its preconditioner) beside
+// the curvature and solves once the guide exists (AlignedSystem): the result must
+// solve (A + s M) u = s M g, with s = 1 / (l d)^2 and K assembled here, to the field
+// tolerance, and be the same to the bit for one thread or two.
+TEST(AlignedField, SystemBuiltAheadSolvesTheSmoothingEquationsForAnyThreadCount) {
+    Mesh m = makeTorus(2.0, 0.7, 60, 30);
+    TangentFrames fr(m);
+    const int n = m.nVertices();
+    const double length = 0.08;
+    RosyField guide{4, Eigen::VectorXcd::Random(n)};
+    const SparseMatrixC A = connectionLaplacian(fr, 4);
+    const Eigen::VectorXd area = vertexAreas(m);
+    RosyField two, one;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        two = AlignedSystem(fr, A, area, 4, length).solve(guide);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = AlignedSystem(fr, A, area, 4, length).solve(guide);
+    }
+    ASSERT_EQ(two.nSym, 4);
+    for (int v = 0; v < n; ++v) ASSERT_EQ(one.u[v], two.u[v]) << v;
+    Vec3 lo, hi;
+    m.bounds(lo, hi);
+    const double s = 1.0 / std::pow(length * (hi - lo).norm(), 2);
+    SparseMatrixC K = A;
+    Eigen::VectorXcd b(n);
+    for (int v = 0; v < n; ++v) {
+        K.coeffRef(v, v) += s * area[v];
+        b[v] = s * area[v] * guide.u[v];
+    }
+    const Eigen::VectorXcd r = b - K * two.u;
+    EXPECT_LE(r.norm(), kFieldTolerance * b.norm());
+    EXPECT_GT(r.norm(), 0.0); // an iterative solve, not the guide handed back
+    const Eigen::VectorXcd direct = HermitianSolver(K).solve(b);
+    EXPECT_LT((two.u - direct).norm() / direct.norm(), 1e-2);
+    // A guide of another N is a caller's bug.
+    EXPECT_THROW(AlignedSystem(fr, A, area, 4, length).solve(RosyField{2, guide.u}), rosy::CheckFailure);
+}
+
+// The cache computes without its lock held, so two threads asking at once (the
+// curvature beside the Laplacian in buildField()) may both compute; what they get
+// must be a cold build's, bit for bit.
+TEST(FieldCache, ConcurrentRequestsGiveTheValuesOfAColdBuild) {
+    Mesh m = makeTorus(2.0, 0.7, 48, 24);
+    TangentFrames fr(m);
+    FieldSpec spec;
+    const FieldResult cold = buildField(fr, spec);
+    FieldCache cache(fr);
+    const SparseMatrixC *lap[2] = {nullptr, nullptr};
+    const RosyField *guides[2] = {nullptr, nullptr};
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::parallel_invoke(
+        [&] {
+            lap[0] = &cache.connectionLaplacian(4);
+            guides[0] = &cache.curvatureGuide(spec.curvature, 4);
+        },
+        [&] {
+            guides[1] = &cache.curvatureGuide(spec.curvature, 4);
+            lap[1] = &cache.connectionLaplacian(4);
+        });
+    EXPECT_EQ(lap[0], lap[1]); // one stored entry
+    EXPECT_EQ(guides[0], guides[1]);
+    const SparseMatrixC coldLap = connectionLaplacian(fr, 4);
+    ASSERT_EQ(lap[0]->nonZeros(), coldLap.nonZeros());
+    for (Eigen::Index k = 0; k < coldLap.nonZeros(); ++k)
+        ASSERT_EQ(lap[0]->valuePtr()[k], coldLap.valuePtr()[k]) << k;
+    const FieldResult warm = buildField(fr, spec, &cache);
+    for (int v = 0; v < m.nVertices(); ++v) ASSERT_EQ(warm.field.u[v], cold.field.u[v]) << v;
 }
 
 // Issue 16: a smoothing length of 1e-200 overflowed s = 1 / (l d)^2 and was reported
