@@ -12,6 +12,7 @@
 #include "core/json.h"
 #include "field/mesh/poly_mesh.h"
 #include "field/primitives.h"
+#include "remesh/input_refinement.h"
 #include "remesh/quality.h"
 #include "remesh/remesh.h"
 #include "renderer/mesh_picture.h"
@@ -25,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace rosy::cli {
 namespace {
@@ -35,6 +37,7 @@ struct RemeshCliOptions {
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
     std::string separatrices = "off";
     std::string thinParts = "on";
+    std::string refineInput = "on"; ///< --refine-input: remesh::refineCoarseInput() before the field
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
     double featureAngle = 50; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
@@ -143,6 +146,8 @@ void runRemesh(const RemeshCliOptions &opt) {
         throw InputError(FileLoc{"--separatrices"}, "'" + opt.separatrices + "' is not on or off", "use on or off");
     if (opt.thinParts != "on" && opt.thinParts != "off")
         throw InputError(FileLoc{"--thin-parts"}, "'" + opt.thinParts + "' is not on or off", "use on or off");
+    if (opt.refineInput != "on" && opt.refineInput != "off")
+        throw InputError(FileLoc{"--refine-input"}, "'" + opt.refineInput + "' is not on or off", "use on or off");
     if (opt.symmetry != 4 && opt.symmetry != 6)
         throw InputError(FileLoc{"--symmetry"}, "remeshing needs N = 4 (quads) or 6 (triangles), got " +
                                                     std::to_string(opt.symmetry),
@@ -191,6 +196,16 @@ void runRemesh(const RemeshCliOptions &opt) {
     // Edits name singularities of the scene's own field: only with its own N.
     popt.applyEdits = nSym == sceneSym;
     double edgeLength = 0;
+    // A coarse mesh (a CAD part's few large triangles) gets vertices at about the
+    // lattice's spacing before its field is built: the field lives on the vertices,
+    // and interpolated across faces many cells wide it swirls (docs/remeshing.md,
+    // "Coarse meshes refined"). Not where the scene's edits name singularities by id:
+    // those are ids of the field on the mesh as given.
+    bool idEdits = false;
+    if (popt.applyEdits)
+        for (const scenes::FieldEditDesc &e : desc.field.edits)
+            idEdits = idEdits || e.op != field::FieldEdit::Op::CancelNear;
+    std::optional<remesh::InputRefinement> refinement;
     popt.afterLoad = [&](scenes::Scene &scene) {
         field::Vec3 lo, hi;
         scene.mesh.bounds(lo, hi);
@@ -198,6 +213,16 @@ void runRemesh(const RemeshCliOptions &opt) {
         // The field ignores the creases shorter than 2 L, as the remesher does
         // (RemeshOptions::featureAngleDeg); read by the field stage, which follows.
         desc.field.spec.featureMinLength = 2 * edgeLength / std::max(1e-300, (hi - lo).norm());
+        if (opt.refineInput != "on" || !(edgeLength > 0) || !std::isfinite(edgeLength)) return;
+        if (idEdits) {
+            warn(scene.mesh.name(), "remesh-refine-input",
+                 "the mesh is not refined before its field is built (--refine-input): the scene's edits name "
+                 "singularities by id, which are ids of the field on the mesh as given; name them by position "
+                 "(cancel_near) to have it refined");
+            return;
+        }
+        refinement.emplace();
+        scene.mesh = remesh::refineCoarseInput(scene.mesh, edgeLength, opt.common.maxFaces, &*refinement);
     };
     if (!opt.common.quiet) popt.onStage = [](const std::string &stage, double ms) {
         std::fprintf(stderr, "  %s %.0f ms\n", stage.c_str(), ms);
@@ -279,6 +304,14 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
         json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts).field("adaptive_scale", ropt.scaleStrength);
         json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg).endObject();
+        if (refinement) {
+            const remesh::InputRefinement &ri = *refinement;
+            json.key("input_refinement").beginObject();
+            json.field("max_edge", ri.maxEdge).field("long_edge_area_fraction", ri.longEdgeAreaFraction);
+            json.field("applied", ri.applied).field("longest_edge_before", ri.refinement.maxEdgeBefore);
+            json.field("edges_bisected", ri.refinement.bisections).field("vertices_before", ri.verticesBefore);
+            json.field("vertices_after", ri.verticesAfter).endObject();
+        }
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));
         json.field("singularities", int(sf.field.singularities.singularities.size())).endObject();
         json.key("repairs").beginObject();
@@ -312,6 +345,12 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         ->capture_default_str();
     sub->add_option("--separatrices", opt->separatrices,
                     "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
+        ->capture_default_str();
+    sub->add_option("--refine-input", opt->refineInput,
+                    "on (default): when faces with an edge longer than 2 L cover 5 % or more of the input's area, "
+                    "its long edges are bisected (the surface unchanged) before the field is built, so the field "
+                    "has vertices at about the lattice's spacing, which a CAD mesh of a few large triangles lacks; "
+                    "off: the field on the mesh as given (docs/remeshing.md, Coarse meshes refined)")
         ->capture_default_str();
     sub->add_option("--thin-parts", opt->thinParts,
                     "on (default): a finer lattice where the surface is thinner than the edge length or faces "

@@ -72,6 +72,59 @@ TEST(RemeshCli, SceneToObjWithReport) {
 // written, but the command says that and where ("When the topology is not kept").
 // At minor radius 0.002 not even a quarter of L goes round it: nothing is left,
 // which is an error and writes nothing.
+// A CAD-style mesh of a few large triangles (the CGAL data's cube.off: twelve) has
+// its field on eight vertices only, interpolated across faces fourteen cells wide;
+// refined before the field is built (--refine-input, default on), a cube remeshes to
+// what it should: all quads, right angles, its eight corners the only irregular
+// vertices (valence 3, the field's eight singularities).
+TEST(RemeshCli, ACoarseCubeIsRefinedBeforeItsFieldAndRemeshesToAGrid) {
+    const fs::path dir = workDir("coarse-cube");
+    {
+        std::ofstream off(dir / "cube.off");
+        off << "OFF\n8 12 0\n";
+        for (int k = 0; k < 8; ++k) off << ((k & 4) ? 1 : -1) << ' ' << ((k & 2) ? 1 : -1) << ' ' << ((k & 1) ? 1 : -1) << '\n';
+        off << "3 0 1 3\n3 0 3 2\n3 4 6 7\n3 4 7 5\n3 0 4 5\n3 0 5 1\n"
+               "3 2 3 7\n3 2 7 6\n3 0 2 6\n3 0 6 4\n3 1 5 7\n3 1 7 3\n";
+    }
+    const CliRun r = runRosyhatch(dir, "remesh cube.off -o on.obj --edge 4% --report on.json --quiet", "on");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "on.json"));
+    const auto &refined = j["input_refinement"];
+    EXPECT_TRUE(refined["applied"].get<bool>());
+    EXPECT_EQ(refined["long_edge_area_fraction"], 1.0);
+    EXPECT_EQ(refined["vertices_before"], 8);
+    EXPECT_EQ(refined["vertices_after"].get<int>(), 8 + refined["edges_bisected"].get<int>());
+    EXPECT_GT(refined["edges_bisected"].get<int>(), 100);
+    EXPECT_NEAR(refined["longest_edge_before"].get<double>(), std::sqrt(8.0), 1e-6);
+    const auto &q = j["quality"];
+    EXPECT_GE(q["quad_fraction"].get<double>(), 0.999);
+    EXPECT_LT(q["angle_deviation_deg"]["p90"].get<double>(), 2.0);
+    EXPECT_LT(q["edge_length"]["cv"].get<double>(), 0.06);
+    EXPECT_LE(q["irregular"]["vertices"].get<int>(), 8);
+    EXPECT_TRUE(q["topology"]["kept"].get<bool>());
+    EXPECT_LT(q["distance_pct_of_diagonal"]["output_to_input"].get<double>(), 0.01);
+    // Without it, the field of eight vertices swirls across the faces.
+    const CliRun off = runRosyhatch(dir, "remesh cube.off -o off.obj --edge 4% --refine-input off --report off.json --quiet",
+                                    "off");
+    ASSERT_EQ(off.exitCode, 0) << off.err;
+    const nlohmann::json k = nlohmann::json::parse(slurp(dir / "off.json"));
+    EXPECT_FALSE(k.contains("input_refinement"));
+    EXPECT_GT(k["quality"]["angle_deviation_deg"]["p90"].get<double>(), 15.0);
+    EXPECT_GT(k["quality"]["irregular"]["vertices"].get<int>(), 50);
+    // Edits that name singularities by id keep the mesh as given (the ids are the
+    // unrefined field's), and say so; a bad --refine-input is rejected.
+    std::ofstream(dir / "edits.yaml") << "mesh: cube.off\nfield:\n  edits:\n    - {cancel: [0, 1]}\n";
+    const CliRun edits = runRosyhatch(dir, "remesh edits.yaml -o edits.obj --edge 4% --report edits.json", "edits");
+    EXPECT_NE(edits.err.find("not refined"), std::string::npos) << edits.err;
+    if (edits.exitCode == 0) {
+        EXPECT_FALSE(nlohmann::json::parse(slurp(dir / "edits.json")).contains("input_refinement"));
+    }
+    const CliRun bad = runRosyhatch(dir, "remesh cube.off -o bad.obj --refine-input maybe", "bad");
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_NE(bad.err.find("--refine-input"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "bad.obj"));
+}
+
 TEST(RemeshCli, PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError) {
     const fs::path dir = workDir("thin");
     std::ofstream(dir / "thin.yaml") << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.01, nu: 256, nv: 16}\n";

@@ -1,0 +1,102 @@
+#include "field/mesh/refine.h"
+
+#include "core/error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <queue>
+#include <tuple>
+#include <unordered_map>
+#include <vector>
+
+namespace rosy::field {
+
+namespace {
+
+uint64_t edgeKey(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t(uint32_t(a)) << 32) | uint64_t(uint32_t(b));
+}
+
+/// The faces beside an edge: one on a boundary, two inside (the mesh is manifold).
+struct EdgeFaces {
+    int f[2] = {-1, -1};
+    void replace(int from, int to) { (f[0] == from ? f[0] : f[1]) = to; }
+    void add(int face) { (f[0] < 0 ? f[0] : f[1]) = face; }
+};
+
+} // namespace
+
+Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Refinement *report) {
+    ROSY_CHECK(maxEdge > 0 && std::isfinite(maxEdge));
+    std::vector<Vec3> positions = mesh.positions();
+    std::vector<Face> faces = mesh.faces();
+    std::unordered_map<uint64_t, EdgeFaces> edges;
+    edges.reserve(faces.size() * 2);
+    // Longest first; among equal lengths the smaller vertex pair, so the order (and
+    // the result) never depends on hashing.
+    using Entry = std::tuple<double, int, int>; // length, a < b
+    std::priority_queue<Entry> queue;
+    auto length = [&](int a, int b) { return (positions[size_t(a)] - positions[size_t(b)]).norm(); };
+    auto push = [&](int a, int b) {
+        const double l = length(a, b);
+        if (l > maxEdge) queue.emplace(l, std::min(a, b), std::max(a, b));
+    };
+    double longest = 0;
+    for (int f = 0; f < int(faces.size()); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const int a = faces[size_t(f)][k], b = faces[size_t(f)][(k + 1) % 3];
+            auto [it, fresh] = edges.try_emplace(edgeKey(a, b));
+            it->second.add(f);
+            if (fresh) {
+                longest = std::max(longest, length(a, b));
+                push(a, b);
+            }
+        }
+    int bisections = 0;
+    while (!queue.empty()) {
+        const auto [l, a, b] = queue.top();
+        queue.pop();
+        const auto found = edges.find(edgeKey(a, b));
+        if (found == edges.end()) continue; // bisected already
+        if ((long long)positions.size() >= maxVertices)
+            throw InputError(FileLoc{mesh.name()},
+                             fmt::format("refining the mesh to edges of at most {:.4g} would take more than {} "
+                                         "vertices",
+                                         maxEdge, maxVertices),
+                             "use a longer edge length, or raise the vertex limit");
+        const EdgeFaces beside = found->second;
+        edges.erase(found);
+        const int m = int(positions.size());
+        positions.push_back(0.5 * (positions[size_t(a)] + positions[size_t(b)]));
+        ++bisections;
+        for (int f : beside.f) {
+            if (f < 0) continue;
+            // f = (p, q, c) with p -> q the bisected edge in f's winding: f becomes
+            // (p, m, c) and a new face g = (m, q, c).
+            const Face old = faces[size_t(f)];
+            int k = 0;
+            while (edgeKey(old[k], old[(k + 1) % 3]) != edgeKey(a, b)) ++k;
+            const int p = old[k], q = old[(k + 1) % 3], c = old[(k + 2) % 3];
+            const int g = int(faces.size());
+            faces[size_t(f)] = {p, m, c};
+            faces.push_back({m, q, c});
+            edges[edgeKey(q, c)].replace(f, g);
+            edges[edgeKey(p, m)].add(f);
+            edges[edgeKey(m, q)].add(g);
+            EdgeFaces &mc = edges[edgeKey(m, c)];
+            mc.add(f);
+            mc.add(g);
+            push(m, c);
+        }
+        push(a, m);
+        push(m, b);
+    }
+    if (report) *report = {bisections, longest};
+    if (bisections == 0) return mesh;
+    return Mesh::fromTriangles(std::move(positions), std::move(faces), mesh.name());
+}
+
+} // namespace rosy::field
