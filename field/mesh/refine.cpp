@@ -24,7 +24,10 @@ uint64_t edgeKey(int a, int b) {
 struct EdgeFaces {
     int f[2] = {-1, -1};
     void replace(int from, int to) { (f[0] == from ? f[0] : f[1]) = to; }
-    void add(int face) { (f[0] < 0 ? f[0] : f[1]) = face; }
+    void add(int face) {
+        ROSY_CHECK_LT(f[1], 0); // a third face: Mesh::fromTriangles() admits none
+        (f[0] < 0 ? f[0] : f[1]) = face;
+    }
 };
 
 } // namespace
@@ -35,8 +38,8 @@ Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Re
     std::vector<Face> faces = mesh.faces();
     std::unordered_map<uint64_t, EdgeFaces> edges;
     edges.reserve(faces.size() * 2);
-    // Longest first; among equal lengths the smaller vertex pair, so the order (and
-    // the result) never depends on hashing.
+    // Longest first; equal lengths by their vertex pair, so the order (and the
+    // result) never depends on hashing.
     using Entry = std::tuple<double, int, int>; // length, a < b
     std::priority_queue<Entry> queue;
     auto length = [&](int a, int b) { return (positions[size_t(a)] - positions[size_t(b)]).norm(); };
