@@ -267,6 +267,8 @@ FieldResult buildFieldUnchecked(const TangentFrames &frames, const FieldSpec &sp
         // factorization, partly sequential) needs no curvature, so it is built beside
         // it (bunny00: the set-up's ~15 ms overlap the curvature's ~17). Its time is
         // then in "curvature" and no longer in "solve".
+        // A smoothing length out of range keeps the old order: the curvature first, and
+        // the error only where the smoothing is reached (not on the smoothest fallback).
         const bool smoothingOnly = spec.elements.empty() && !features &&
                                    spec.smoothingLength >= kMinSmoothingLength &&
                                    spec.smoothingLength <= kMaxSmoothingLength;

@@ -420,10 +420,12 @@ Eigen::VectorXcd solveHermitianSystem(const TangentFrames &frames, int nSym, con
 
 Eigen::VectorXcd solveHermitianSystem(const SparseMatrixC &K, const TwoLevelPreconditioner *pre,
                                       const Eigen::VectorXcd &b, const Eigen::VectorXcd &guess, double tolerance) {
-    if (pre) try {
+    if (pre) {
+        try {
             return solvePcg(K, *pre, b, guess, tolerance, 1000);
         } catch (const SolverFailure &) {
         }
+    }
     // A factorization always works for positive definite K; it is only slower.
     return HermitianSolver(K).solve(b);
 }

@@ -502,12 +502,9 @@ double alignmentWeight(const Mesh &mesh, double smoothingLength) {
 } // namespace
 
 struct AlignedSystem::Impl {
-    const TangentFrames *frames = nullptr;
     int nSym = 0;
-    double s = 0;
-    const Eigen::VectorXd *areas = nullptr;
+    Eigen::VectorXd weight; ///< s m_v per vertex: K's added diagonal, the right-hand side's factor
     SparseMatrixC K;
-    std::vector<int> freeId;
     /// Absent when its set-up failed (SolverFailure): solveHermitianSystem() then factors K.
     std::optional<TwoLevelPreconditioner> pre;
 };
@@ -518,18 +515,17 @@ AlignedSystem::AlignedSystem(const TangentFrames &frames, const SparseMatrixC &l
     Impl &im = *m_impl;
     const Mesh &mesh = frames.mesh();
     const int n = mesh.nVertices();
-    im.frames = &frames;
     im.nSym = nSym;
-    im.areas = &areas;
-    im.s = alignmentWeight(mesh, smoothingLength);
+    const double s = alignmentWeight(mesh, smoothingLength);
+    im.weight = s * areas.head(n);
     if (n == 0) return;
     // K = (A + sM), every vertex free.
     im.K = laplacian;
-    for (int v = 0; v < n; ++v) im.K.coeffRef(v, v) += im.s * areas[v];
-    im.freeId.resize(size_t(n));
-    for (int v = 0; v < n; ++v) im.freeId[size_t(v)] = v;
+    for (int v = 0; v < n; ++v) im.K.coeffRef(v, v) += im.weight[v];
+    std::vector<int> freeId(static_cast<size_t>(n));
+    for (int v = 0; v < n; ++v) freeId[size_t(v)] = v;
     try {
-        im.pre.emplace(frames, nSym, im.freeId, im.K);
+        im.pre.emplace(frames, nSym, freeId, im.K);
     } catch (const SolverFailure &) {
     }
 }
@@ -540,7 +536,7 @@ AlignedSystem &AlignedSystem::operator=(AlignedSystem &&) noexcept = default;
 
 RosyField AlignedSystem::solve(const RosyField &guide, double tolerance) const {
     const Impl &im = *m_impl;
-    const int n = im.frames->mesh().nVertices();
+    const int n = int(im.weight.size());
     ROSY_CHECK_EQ(guide.nSym, im.nSym);
     ROSY_CHECK_EQ(int(guide.u.size()), n);
     RosyField out;
@@ -548,7 +544,7 @@ RosyField AlignedSystem::solve(const RosyField &guide, double tolerance) const {
     out.u = Eigen::VectorXcd::Zero(n);
     if (n == 0) return out;
     Eigen::VectorXcd rhs(n);
-    for (int v = 0; v < n; ++v) rhs[v] = im.s * (*im.areas)[v] * guide.u[v];
+    for (int v = 0; v < n; ++v) rhs[v] = im.weight[v] * guide.u[v];
     // The guide is a good start for CG.
     out.u = solveHermitianSystem(im.K, im.pre ? &*im.pre : nullptr, rhs, guide.u, tolerance);
     return out;

@@ -115,7 +115,8 @@ RosyField alignedField(const TangentFrames &frames, const SparseMatrixC &laplaci
 /// field is alignedField()'s to the bit (alignedField() itself goes through here).
 class AlignedSystem {
 public:
-    /// `laplacian` = connectionLaplacian(frames, nSym), `areas` = vertexAreas(frames.mesh()).
+    /// `laplacian` = connectionLaplacian(frames, nSym), `areas` = vertexAreas(frames.mesh());
+    /// none of the three is referred to afterwards.
     /// \throws InputError naming the mesh if smoothingLength is outside
     ///   [kMinSmoothingLength, kMaxSmoothingLength].
     AlignedSystem(const TangentFrames &frames, const SparseMatrixC &laplacian, const Eigen::VectorXd &areas,

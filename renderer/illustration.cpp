@@ -112,7 +112,7 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     // render). Declared before the guard, which must wait for the task first.
     InkLayers blankLayers;
     std::optional<Image> paper;
-    tbb::task_group contourTask;
+    tbb::task_group besideTask;
     struct WaitForTask {
         tbb::task_group &task;
         ~WaitForTask() {
@@ -121,15 +121,13 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
             } catch (...) { // second to the exception leaving finishIllustration()
             }
         }
-    } waitForTask{contourTask};
+    } waitForTask{besideTask};
     double contourMs = 0;
     const bool contoursHere = out.contoursPending;
     if (contoursHere) ROSY_CHECK(in.mesh && in.scene);
-    bool besideStarted = false;
-    auto startContours = [&] {
+    auto startBeside = [&] {
         if (!contoursHere && !in.raster) return;
-        besideStarted = true;
-        contourTask.run([&] {
+        besideTask.run([&] {
             if (contoursHere) {
                 const auto start = Clock::now();
                 out.contourStrokes =
@@ -144,11 +142,11 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     };
 
     styles::HatchStyle hatchStyle = in.style.hatch;
-    bool contoursStarted = false;
+    bool besideStarted = false;
     if (in.quadLines) {
         // Lines on the surface need no calibration: their spacing is the mesh's.
-        startContours();
-        contoursStarted = true;
+        startBeside();
+        besideStarted = true;
         hatchStyle.calibrateInk = false;
         out.strokes = isolated([&] {
             return quadLineHatches(*in.quadLines, out.screen, out.targetDensity, out.gbuffer, camera, hatchStyle,
@@ -163,12 +161,12 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     } else {
         out.strokes = isolated([&] {
             return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed, nullptr, [&] {
-                startContours();
-                contoursStarted = true;
+                startBeside();
+                besideStarted = true;
             });
         });
     }
-    ROSY_CHECK(contoursStarted); // traceHatches() calls whileTracing on every path that returns
+    ROSY_CHECK(besideStarted); // traceHatches() calls whileTracing on every path that returns
     if (hatchStyle.calibrateInk) {
         // Print mode: how much ink a Jobard-Lefer tracing lays down for the spacings
         // the tone asks for depends on the picture's size against them (line ends at
@@ -207,10 +205,8 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     else if (in.measureHatching == HatchMeasure::Counts)
         out.hatch = isolated([&] { return countHatches(out.strokes, out.screen, out.targetDensity, hatchStyle); });
     lap("hatching");
-    if (besideStarted) {
-        contourTask.wait(); // rethrows the task's failure
-        t0 = Clock::now(); // the raster's time starts after the wait
-    }
+    besideTask.wait();  // rethrows the task's failure
+    t0 = Clock::now(); // the raster's time starts after the wait
     if (contoursHere) {
         out.contoursPending = false;
         out.timingsMs.emplace_back("contours", contourMs);
