@@ -309,7 +309,8 @@ void runRemesh(const RemeshCliOptions &opt) {
             json.key("input_refinement").beginObject();
             json.field("max_edge", ri.maxEdge).field("long_edge_area_fraction", ri.longEdgeAreaFraction);
             json.field("applied", ri.applied).field("longest_edge_before", ri.refinement.maxEdgeBefore);
-            json.field("edges_bisected", ri.refinement.bisections).field("vertices_before", ri.verticesBefore);
+            json.field("edges_bisected", ri.refinement.bisections).field("delaunay_flips", ri.delaunayFlips);
+            json.field("vertices_before", ri.verticesBefore);
             json.field("vertices_after", ri.verticesAfter).endObject();
         }
         json.key("field").beginObject().field("source", field::toString(sf.field.spec.source));

@@ -24,7 +24,10 @@ field::Mesh refineCoarseInput(const field::Mesh &mesh, double edgeLength, long l
     }
     r.longEdgeAreaFraction = total > 0 ? inLong / total : 0.0;
     r.applied = r.longEdgeAreaFraction >= kRefineAreaFraction;
-    field::Mesh out = r.applied ? field::refineLongEdges(mesh, r.maxEdge, maxVertices, &r.refinement) : mesh;
+    field::Mesh out = r.applied ? field::flipCoplanarToDelaunay(
+                                      field::refineLongEdges(mesh, r.maxEdge, maxVertices, &r.refinement),
+                                      &r.delaunayFlips)
+                                : mesh;
     r.refinement.maxEdgeBefore = longestOfAll;
     r.verticesAfter = out.nVertices();
     if (report) *report = r;

@@ -28,11 +28,14 @@ struct InputRefinement {
     bool applied = false;                ///< longEdgeAreaFraction >= kRefineAreaFraction
     int verticesBefore = 0, verticesAfter = 0;
     field::Refinement refinement;        ///< when applied
+    int delaunayFlips = 0;               ///< field::flipCoplanarToDelaunay() after the bisection
 };
 
 /// `mesh` refined by field::refineLongEdges() to edges of at most kRefineEdgeRatio
-/// × edgeLength when faces with longer edges cover at least kRefineAreaFraction of
-/// its area; else `mesh` itself. The surface is the input's either way.
+/// × edgeLength, then its flat parts made Delaunay (field::flipCoplanarToDelaunay():
+/// the bisection's needles in long thin CAD faces become well-shaped triangles),
+/// when faces with longer edges cover at least kRefineAreaFraction of its area;
+/// else `mesh` itself. The surface is the input's either way.
 /// \throws InputError (field::refineLongEdges()) past maxVertices vertices;
 ///   CheckFailure if edgeLength is not positive and finite (a caller bug).
 field::Mesh refineCoarseInput(const field::Mesh &mesh, double edgeLength, long long maxVertices,

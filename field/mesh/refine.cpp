@@ -4,8 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <queue>
 #include <tuple>
 #include <unordered_map>
@@ -100,6 +102,76 @@ Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Re
     if (report) *report = {bisections, longest};
     if (bisections == 0) return mesh;
     return Mesh::fromTriangles(std::move(positions), std::move(faces), mesh.name());
+}
+
+namespace {
+/// Opposite angles summing to at most π plus this (radians) count as Delaunay.
+constexpr double kCocircularSlack = 1e-9;
+} // namespace
+
+Mesh flipCoplanarToDelaunay(const Mesh &mesh, int *flips) {
+    std::vector<Face> faces = mesh.faces();
+    const std::vector<Vec3> &x = mesh.positions();
+    std::unordered_map<uint64_t, EdgeFaces> edges;
+    edges.reserve(faces.size() * 2);
+    std::vector<uint64_t> keys;
+    for (int f = 0; f < int(faces.size()); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const uint64_t key = edgeKey(faces[size_t(f)][k], faces[size_t(f)][(k + 1) % 3]);
+            auto [it, fresh] = edges.try_emplace(key);
+            it->second.add(f);
+            if (fresh) keys.push_back(key);
+        }
+    std::sort(keys.begin(), keys.end());
+    std::deque<uint64_t> work(keys.begin(), keys.end());
+    auto normal = [&](const Face &f) { return Vec3((x[size_t(f[1])] - x[size_t(f[0])]).cross(x[size_t(f[2])] - x[size_t(f[0])])); };
+    // The angle at b of the triangle (a, b, c).
+    auto angleAt = [&](int a, int b, int c) {
+        const Vec3 u = x[size_t(a)] - x[size_t(b)], w = x[size_t(c)] - x[size_t(b)];
+        return std::atan2(u.cross(w).norm(), u.dot(w));
+    };
+    const double minCos = std::cos(kCoplanarAngle);
+    int count = 0;
+    while (!work.empty()) {
+        const uint64_t key = work.front();
+        work.pop_front();
+        const auto found = edges.find(key);
+        if (found == edges.end()) continue; // flipped away
+        const EdgeFaces beside = found->second;
+        if (beside.f[0] < 0 || beside.f[1] < 0) continue; // boundary
+        const Face A = faces[size_t(beside.f[0])], B = faces[size_t(beside.f[1])];
+        // A = (p, q, c) with p -> q the edge in A's winding; B runs q -> p, d its third corner.
+        int k = 0;
+        while (edgeKey(A[k], A[(k + 1) % 3]) != key) ++k;
+        const int p = A[k], q = A[(k + 1) % 3], c = A[(k + 2) % 3];
+        int d = -1;
+        for (int v : B)
+            if (v != p && v != q) d = v;
+        ROSY_CHECK_GE(d, 0);
+        if (c == d || edges.count(edgeKey(c, d))) continue; // the new diagonal exists already
+        const Vec3 nA = normal(A), nB = normal(B);
+        const double lA = nA.norm(), lB = nB.norm();
+        if (!(lA > 0 && lB > 0) || nA.dot(nB) < minCos * lA * lB) continue; // not one plane
+        // Delaunay already (or cocircular, up to rounding: both diagonals may not flip back and forth).
+        if (angleAt(p, c, q) + angleAt(p, d, q) <= M_PI + kCocircularSlack) continue;
+        const Face newA = {p, d, c}, newB = {q, c, d};
+        if (!(normal(newA).dot(nA) > 0 && normal(newB).dot(nA) > 0)) continue; // would fold
+        const int fa = beside.f[0], fb = beside.f[1];
+        edges.erase(found);
+        faces[size_t(fa)] = newA;
+        faces[size_t(fb)] = newB;
+        // Edges (q, c) moves from A to newB, (p, d) from B to newA; (c, d) is new.
+        edges[edgeKey(q, c)].replace(fa, fb);
+        edges[edgeKey(p, d)].replace(fb, fa);
+        EdgeFaces &cd = edges[edgeKey(c, d)];
+        cd.add(fa);
+        cd.add(fb);
+        ++count;
+        for (const uint64_t around : {edgeKey(p, c), edgeKey(c, q), edgeKey(q, d), edgeKey(d, p)}) work.push_back(around);
+    }
+    if (flips) *flips = count;
+    if (count == 0) return mesh;
+    return Mesh::fromTriangles(mesh.positions(), std::move(faces), mesh.name());
 }
 
 } // namespace rosy::field

@@ -32,4 +32,23 @@ struct Refinement {
 ///   CheckFailure if maxEdge is not positive and finite (a caller bug).
 Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Refinement *report = nullptr);
 
+/// Two faces whose normals differ by less than this angle (radians) count as one
+/// plane for flipCoplanarToDelaunay(): a flip between them moves the surface by at
+/// most this angle times the edge's length, far below a file's own precision.
+constexpr double kCoplanarAngle = 1e-6;
+
+/// `mesh` with edges flipped until every interior edge between two coplanar faces
+/// (normals within kCoplanarAngle) is locally Delaunay: the two angles opposite it
+/// sum to at most π (Lawson's flips). Longest-edge bisection of a CAD part leaves
+/// fans of needles where an input face was long and thin (edge midpoints only ever
+/// split it along its length); within a plane the Delaunay triangulation of the same
+/// vertices has the largest smallest angle, and the field interpolated over it
+/// turns less between vertices. Only flat pairs flip, so creases, the boundary and
+/// the surface stay where they are; vertices keep their indices. An edge is flipped
+/// only when its new diagonal is not an edge already and both new faces keep the
+/// pair's orientation. The order is fixed (edges by vertex pair, then those around
+/// each flip), so the result is one and the same on every run. `flips` (if given)
+/// receives the number of flips.
+Mesh flipCoplanarToDelaunay(const Mesh &mesh, int *flips = nullptr);
+
 } // namespace rosy::field
