@@ -197,35 +197,78 @@ public:
     size_t size() const { return m_order.size(); }
 
     /// The nearest sample closer than r to p whose family is (same) or is not (!same)
-    /// `family`; among equally near ones the first in any()'s order. Cells without such
-    /// samples, or none nearer than the best so far, are skipped. nullptr if none.
+    /// `family`; among equally near ones the first in any()'s order (row-major cells,
+    /// each in insertion order). Cells are visited in square rings around p's, so the
+    /// best is found early and the rings beyond its distance are not read (a scan seed
+    /// of the second family looks up to 2 d_sep for a first-family line: about 80
+    /// cells in row order); cells without such samples, or none as near as the best
+    /// so far, are skipped. nullptr if none.
     const Sample *nearest(const Vec2 &p, double r, int family, bool same) const {
         const std::vector<uint32_t> &count = m_count[(family != 0) == same ? 1 : 0];
         const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
         const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
         const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
         const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        if (x0 > x1 || y0 > y1) return nullptr;
+        const int px = std::clamp(int(std::floor(p.x() / m_cell)), x0, x1);
+        const int py = std::clamp(int(std::floor(p.y() / m_cell)), y0, y1);
         const Sample *best = nullptr;
+        size_t bestCell = 0;
         double bestD = r * r;
-        for (int cy = y0; cy <= y1; ++cy) {
-            const double dy = gap(p.y(), cy * m_cell, m_cell);
-            if (dy * dy >= bestD) continue;
-            for (int cx = x0; cx <= x1; ++cx) {
-                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
-                if (count[c] == 0) continue;
-                const double dx = gap(p.x(), cx * m_cell, m_cell);
-                if (dx * dx + dy * dy >= bestD) continue;
-                for (const Sample &s : m_cells[c]) {
-                    if ((s.family == family) != same) continue;
-                    const double d2 = (s.p - p).squaredNorm();
-                    if (d2 < bestD) {
-                        bestD = d2;
-                        best = &s;
-                    }
+        auto visit = [&](int cx, int cy, double dy) {
+            const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
+            if (count[c] == 0) return;
+            const double dx = gap(p.x(), cx * m_cell, m_cell);
+            if (dx * dx + dy * dy > bestD) return;
+            for (const Sample &s : m_cells[c]) {
+                if ((s.family == family) != same) continue;
+                const double d2 = (s.p - p).squaredNorm();
+                // Equally near: the earlier cell in row-major order wins, and in one
+                // cell the earlier sample (any()'s order).
+                if (d2 < bestD || (d2 == bestD && best && c < bestCell)) {
+                    bestD = d2;
+                    best = &s;
+                    bestCell = c;
+                }
+            }
+        };
+        const int rings = std::max({px - x0, x1 - px, py - y0, y1 - py});
+        for (int k = 0; k <= rings; ++k) {
+            // Every cell of ring k is at least k − 1 cells from p's.
+            const double reach = (k - 1) * m_cell;
+            if (k >= 2 && reach * reach > bestD) break;
+            for (int cy = std::max(y0, py - k); cy <= std::min(y1, py + k); ++cy) {
+                const double dy = gap(p.y(), cy * m_cell, m_cell);
+                if (dy * dy > bestD) continue;
+                if (cy == py - k || cy == py + k) {
+                    for (int cx = std::max(x0, px - k); cx <= std::min(x1, px + k); ++cx) visit(cx, cy, dy);
+                } else {
+                    if (px - k >= x0) visit(px - k, cy, dy);
+                    if (px + k <= x1) visit(px + k, cy, dy);
                 }
             }
         }
         return best;
+    }
+
+    /// any() for a predicate that holds only for samples of `family`: the cells
+    /// holding none of that family (m_count) are not read. Where one family's lines
+    /// are few (the second in a mostly single-tone image), a query among the other's
+    /// samples then costs the cell counts alone.
+    template <typename F> bool anyOfFamily(const Vec2 &p, double r, int family, F &&f) const {
+        const std::vector<uint32_t> &count = m_count[family != 0];
+        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
+        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
+        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
+        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        for (int cy = y0; cy <= y1; ++cy)
+            for (int cx = x0; cx <= x1; ++cx) {
+                const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
+                if (count[c] == 0) continue;
+                for (const Sample &s : m_cells[c])
+                    if (f(s)) return true;
+            }
+        return false;
     }
 
     /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
@@ -717,14 +760,14 @@ private:
         return hatchFamilies(densityAt(i), m_style) < 2 || m_crossWeight[size_t(i)] <= 0.0f;
     }
 
-    /// Whether a sample for which `accept` holds lies closer than r to q. Scan seeds
-    /// one stride apart are mostly kept away by the same line: its samples around the
-    /// one that answered last are tried first (m_scanHint); the answer is the same.
-    template <typename Accept> bool anyNear(const Vec2 &q, double r, Accept &&accept) {
-        auto near = [&](const Sample &s) { return accept(s) && (s.p - q).squaredNorm() < r * r; };
+    /// Whether a sample of `family` lies closer than r to q. Scan seeds one stride
+    /// apart are mostly kept away by the same line: its samples around the one that
+    /// answered last are tried first (m_scanHint); the answer is the same.
+    bool anyNear(const Vec2 &q, double r, int family) {
+        auto near = [&](const Sample &s) { return s.family == family && (s.p - q).squaredNorm() < r * r; };
         if (alongHint(m_scanHint, 6, near)) return true;
         const Sample *hit = nullptr;
-        m_grid.any(q, r, [&](const Sample &s) {
+        m_grid.anyOfFamily(q, r, family, [&](const Sample &s) {
             if (!near(s)) return false;
             hit = &s;
             return true;
@@ -740,7 +783,7 @@ private:
         const double dSep = spacingAt(i);
         // A same-family line within d_sep would reject any seed here: skip the wider search.
         const double rNear = 0.98 * dSep;
-        if (anyNear(q, rNear, [&](const Sample &s) { return s.family == m_family; })) return false;
+        if (anyNear(q, rNear, m_family)) return false;
         // The nearest line of the same family within 2 d_sep gives the heading; else
         // the nearest of the other family (only looked for then).
         const double r = 2.0 * dSep;
