@@ -6,13 +6,13 @@
 #include "field/smoothing.h"
 
 #include "field/mesh/closest_point.h"
+#include "field/mesh/union_find.h"
 #include "field/multilevel.h"
 #include "field/sparse_solver.h"
 
 #include <fmt/format.h>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <sstream>
 
 namespace rosy::field {
@@ -20,21 +20,15 @@ namespace {
 
 // Vertex components through edges (ids by smallest vertex, deterministic).
 std::vector<int> vertexComponents(const Mesh &mesh, int &nComp) {
-    std::vector<int> parent(mesh.nVertices());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](int x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
+    UnionFind components(mesh.nVertices());
     for (int e = 0; e < mesh.nEdges(); ++e) {
-        int h = mesh.edgeHalfedge(e);
-        int a = find(mesh.tail(h)), b = find(mesh.head(h));
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        const int h = mesh.edgeHalfedge(e);
+        components.unite(mesh.tail(h), mesh.head(h));
     }
     std::vector<int> id(mesh.nVertices(), -1), comp(mesh.nVertices());
     nComp = 0;
     for (int v = 0; v < mesh.nVertices(); ++v) {
-        int r = find(v);
+        int r = components.find(v);
         if (id[r] < 0) id[r] = nComp++;
         comp[v] = id[r];
     }

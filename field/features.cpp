@@ -4,6 +4,7 @@
 #include "field/features.h"
 
 #include "core/error.h"
+#include "field/mesh/union_find.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,18 +77,14 @@ FeatureCurves findFeatureCurves(const Mesh &mesh, double angleDeg, double minCur
         // Curves are the edges joined through vertices that are not corners; the
         // shorter ones are dropped (a crease of a few edges on an organic mesh is noise).
         const int nE = int(c.edges.size());
-        std::vector<int> up(static_cast<size_t>(nE));
-        for (int e = 0; e < nE; ++e) up[size_t(e)] = e;
-        auto find = [&](int e) {
-            while (up[size_t(e)] != e) e = up[size_t(e)] = up[size_t(up[size_t(e)])];
-            return e;
-        };
+        UnionFind curve(nE);
+        auto find = [&](int e) { return curve.find(e); };
         std::vector<int> firstAt(size_t(nV), -1);
         for (int e = 0; e < nE; ++e)
             for (int v : c.edges[size_t(e)]) {
                 if (c.corner[size_t(v)]) continue;
                 if (firstAt[size_t(v)] < 0) firstAt[size_t(v)] = e;
-                else up[size_t(find(e))] = find(firstAt[size_t(v)]);
+                else curve.unite(e, firstAt[size_t(v)]);
             }
         std::vector<double> length(size_t(nE), 0.0);
         for (int e = 0; e < nE; ++e)

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/pixel_array.h"
+#include "field/mesh/union_find.h"
 
 #include <algorithm>
 #include <cmath>
@@ -413,12 +414,7 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
     // Scanned fists, lips and hooves carry dense clusters whose separate discs would
     // clear the whole small dark part of ink (seam_fraction). Where lines are sparse
     // every singularity shows and keeps its own disc.
-    std::vector<int> parent(cands.size());
-    for (size_t k = 0; k < parent.size(); ++k) parent[k] = int(k);
-    auto root = [&](int k) {
-        while (parent[size_t(k)] != k) k = parent[size_t(k)] = parent[size_t(parent[size_t(k)])];
-        return k;
-    };
+    field::UnionFind groupOf(int(cands.size()));
     // Pairs by a sweep along x: scans carry thousands of singularities.
     std::vector<int> byX;
     double maxRadius = 0.0;
@@ -434,7 +430,7 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
             const Disc &a = discOf(byX[i]), &b = discOf(byX[j]);
             if (b.centre.x() - a.centre.x() >= 2.0 * maxRadius) break;
             const double reach = a.radius + b.radius;
-            if ((a.centre - b.centre).squaredNorm() < reach * reach) parent[size_t(root(byX[i]))] = root(byX[j]);
+            if ((a.centre - b.centre).squaredNorm() < reach * reach) groupOf.unite(byX[i], byX[j]);
         }
     // Per group (indexed by its root): summed index, member count, centre sum, radius.
     struct Group {
@@ -445,7 +441,7 @@ std::vector<Disc> singularityDiscs(const ScreenField &field, const std::vector<f
     };
     std::vector<Group> groups(cands.size());
     for (size_t k = 0; k < cands.size(); ++k) {
-        Group &g = groups[size_t(root(int(k)))];
+        Group &g = groups[size_t(groupOf.find(int(k)))];
         g.net += cands[k].index;
         ++g.members;
         g.centre += cands[k].disc.centre;
