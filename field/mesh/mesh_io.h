@@ -26,7 +26,10 @@ struct LoadOptions {
 
 /// Counts of the repairs made while loading (all zero for a clean file).
 struct LoadReport {
-    int polygonsTriangulated = 0;
+    int polygonsTriangulated = 0;          ///< polygons of more than 3 vertices
+    int nonConvexPolygonsTriangulated = 0; ///< ... of them non-convex in their plane, ear-clipped
+    int polygonsFanned = 0;                ///< ... non-convex ones ear clipping could not cut (self-crossing): fanned
+    int largePolygonsFanned = 0;           ///< ... non-convex ones past the ear-clipping budget: fanned
     int degenerateFacesDropped = 0;   ///< repeated vertex or zero area
     int duplicateVerticesMerged = 0;
     int duplicateFacesDropped = 0;
@@ -46,8 +49,12 @@ Mesh loadMesh(const std::string &path, const LoadOptions &options = {},
               LoadReport *report = nullptr);
 
 /// Builds a clean Mesh from a raw polygon soup with the same repairs as loadMesh().
-/// Polygons (>= 3 vertices) are fan-triangulated from their first vertex after
-/// dropping consecutive repeated indices. `name` is used in messages.
+/// Polygons (>= 3 vertices) are triangulated after dropping consecutive repeated
+/// indices: fanned from their first vertex when convex in the plane of their Newell
+/// normal, ear-clipped in that plane when not (an L-shaped CAD face fanned would
+/// fold over its notch); one that crosses itself is fanned with a warning
+/// (`self-crossing-polygons`), and so are those past the ear clipping's budget
+/// (`large-nonconvex-polygons`, about 14,000 corners per file). `name` is used in messages.
 /// A soup whose vertices are listed in no spatial order (more than half of the face
 /// edges join vertices 4096 or more apart in the numbering: bunny00, scans) is
 /// renumbered along a Morton curve, its faces ordered by their first vertex in the

@@ -11,15 +11,13 @@
 namespace rosy::field::detail {
 namespace {
 
-/// Comments after the OFF header are not part of the format (Geomview's
-/// format has none there), so a '#' line is named rather than guessed at.
-bool isBlankOffLine(const std::string &path, int lineNumber, std::string_view line) {
-    if (!isBlankOrComment(line)) return false;
-    if (line.find('#') != std::string_view::npos)
-        throw InputError(FileLoc{path, lineNumber, int(line.find('#')) + 1},
-                         "comments after the OFF header are not supported",
-                         "remove the '#' lines");
-    return true;
+/// The line without its comment: Geomview's OFF lets a '#' begin a comment that
+/// runs to the end of the line, on a line of its own or after the values (a face's
+/// colour "ends with the end of the line (or the next # comment)"). The CGAL data
+/// has both, and comment lines before the header.
+std::string_view withoutComment(std::string_view line) {
+    const size_t hash = line.find('#');
+    return hash == std::string_view::npos ? line : line.substr(0, hash);
 }
 
 /// A numbered line of the file.
@@ -57,14 +55,21 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
     LineReader reader(text);
     std::string_view line;
     std::vector<Token> tok;
-    if (!reader.next(line)) throw InputError(FileLoc{path, 1, 1}, "expected an OFF header line ('OFF')");
+    // Blank and comment lines may come before the header.
+    bool found = false;
+    while (!found && reader.next(line)) found = !isBlankOrComment(line);
+    if (!found)
+        throw InputError(FileLoc{path, 1, 1}, "expected an OFF header line ('OFF'), found only blank or comment lines",
+                         "an .off file holds 'OFF', the counts, the vertices and the faces");
+    const int headerLine = reader.lineNumber();
+    line = withoutComment(line);
     tokenize(line, tok);
     const std::string_view magic = tok.empty() ? std::string_view() : tok[0].text;
     // ST, C, N, 4 and n prefixes: per-vertex extras after x y z. "4OFF"/"nOFF"
     // change the dimension, which a surface renderer cannot use.
     if (magic.size() < 3 || magic.substr(magic.size() - 3) != "OFF" ||
         magic.substr(0, magic.size() - 3).find_first_not_of("STCN") != std::string_view::npos)
-        throw InputError(FileLoc{path, 1, 1},
+        throw InputError(FileLoc{path, headerLine, 1},
                          "expected an OFF header line ('OFF'), found '" +
                              std::string(line.substr(0, std::min<size_t>(line.size(), 20))) + "'",
                          "the first line of an .off file is 'OFF' (or COFF, NOFF, STOFF)");
@@ -72,7 +77,7 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
         // Binary OFF: three 32-bit counts follow the header line.
         const size_t start = reader.position();
         if (text.size() < start + 12)
-            throw InputError(FileLoc{path, 2, 1}, "binary OFF header is truncated",
+            throw InputError(FileLoc{path, headerLine + 1, 1}, "binary OFF header is truncated",
                              "the file is truncated");
         uint32_t counts[3];
         std::memcpy(counts, text.data() + start, 12);
@@ -113,13 +118,13 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
         return;
     }
     // Counts: on the header line after OFF, or on the first non-blank line after it.
-    int countsLine = 1;
+    int countsLine = headerLine;
     tok.erase(tok.begin());
     if (tok.empty()) {
         countsLine = 0;
         while (reader.next(line)) {
-            if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-            tokenize(line, tok);
+            if (isBlankOrComment(line)) continue;
+            tokenize(withoutComment(line), tok);
             countsLine = reader.lineNumber();
             break;
         }
@@ -127,7 +132,7 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
     int64_t nV = -1, nF = -1;
     if (countsLine == 0 || tok.size() < 2 || !parseInt64(tok[0].text, nV) || !parseInt64(tok[1].text, nF) ||
         nV < 0 || nF < 0)
-        throw InputError(FileLoc{path, std::max(countsLine, 2), 1},
+        throw InputError(FileLoc{path, std::max(countsLine, headerLine + 1), 1},
                          "expected the vertex, face and edge counts (whole numbers >= 0)",
                          "the line after 'OFF' reads e.g. '8 6 0'");
     checkFaceCount(path, countsLine, nF, options);
@@ -140,20 +145,13 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
                              " faces but the rest of the file is only " +
                              std::to_string(reader.remainingBytes()) + " bytes",
                          "the file is truncated or its header is wrong");
-    // The vertex and face lines, in order, up to the counts; then parsed in parallel.
-    // A comment line ends the collection: its error comes after any in the lines
-    // before it, as it does when the lines are parsed in order.
+    // The vertex and face lines, in order, up to the counts (blank and comment lines
+    // skipped, trailing comments cut); then parsed in parallel.
     std::vector<NumberedLine> lines;
     lines.reserve(size_t(std::min<int64_t>(nV + nF, int64_t(reader.remainingBytes() / 6 + 1))));
-    std::exception_ptr commentError;
     while (int64_t(lines.size()) < nV + nF && reader.next(line)) {
-        try {
-            if (isBlankOffLine(path, reader.lineNumber(), line)) continue;
-        } catch (const InputError &) {
-            commentError = std::current_exception();
-            break;
-        }
-        lines.push_back({line, reader.lineNumber()});
+        if (isBlankOrComment(line)) continue;
+        lines.push_back({withoutComment(line), reader.lineNumber()});
     }
     const int64_t v = std::min<int64_t>(nV, int64_t(lines.size()));
     const int64_t f = int64_t(lines.size()) - v;
@@ -177,7 +175,6 @@ void readOff(const std::string &path, std::string_view text, const LoadOptions &
             poly[size_t(k - 1)] = cornerIndex(path, l.number, tok[size_t(k)], int64_t(i), nV,
                                               "indices in OFF files start at 0");
     });
-    if (commentError) std::rethrow_exception(commentError);
     if (v < nV || f < nF)
         throw InputError(FileLoc{path, countsLine, 1},
                          "header says " + std::to_string(nV) + " vertices and " + std::to_string(nF) +

@@ -192,13 +192,88 @@ void rejectBadCoordinatesAndCounts(const std::vector<Vec3> &positions, size_t nP
                          "simplify the mesh or raise the face limit");
 }
 
-/// Fan triangulation from each polygon's first vertex after removing consecutive
-/// repeated indices; polygons left with fewer than 3 vertices are dropped (counted).
-std::vector<Face> fanTriangulatePolygons(const std::vector<std::vector<int>> &polygons, int nV,
-                                         const FileLoc &loc, LoadReport &rep) {
+/// Point-in-triangle tests ear clipping may spend on one file (earClip(), quadratic
+/// in a polygon's size); past it the remaining non-convex polygons are fanned and
+/// reported. A file of many large non-convex polygons cannot make loading take more
+/// than about half a second (one non-convex polygon of 14,000 corners exhausts it).
+constexpr long long kEarClipBudget = 200'000'000;
+
+/// Ear clipping of polygon `poly` (at least 4 distinct consecutive indices) in the
+/// plane of its Newell normal `n`: the first ear in the polygon's order is cut
+/// off (a convex corner whose triangle holds no other corner of the polygon, on its
+/// edges included), then the search goes on from its predecessor. Appends the
+/// triangles, wound as the polygon, and returns Clipped; appends nothing and returns
+/// NoEar when no ear is left before the end (a polygon that crosses itself or folds
+/// back in its plane), OutOfBudget when `budget` runs out.
+enum class EarClip { Clipped, NoEar, OutOfBudget };
+EarClip earClip(const std::vector<int> &poly, const std::vector<Vec3> &positions, const Vec3 &n,
+                std::vector<Face> &out, long long &budget) {
+    // An orthonormal frame (u, v) of the plane with u × v along n: the polygon is
+    // counter-clockwise in it.
+    const Vec3 nn = n.normalized();
+    const int axis = nn.cwiseAbs()[0] <= nn.cwiseAbs()[1] ? (nn.cwiseAbs()[0] <= nn.cwiseAbs()[2] ? 0 : 2)
+                                                          : (nn.cwiseAbs()[1] <= nn.cwiseAbs()[2] ? 1 : 2);
+    const Vec3 u = nn.cross(Vec3::Unit(axis)).normalized(), v = nn.cross(u);
+    std::vector<int> rest = poly;
+    std::vector<Eigen::Vector2d> q;
+    for (int i : poly) q.emplace_back(positions[size_t(i)].dot(u), positions[size_t(i)].dot(v));
+    std::vector<int> at(poly.size()); // rest[k] is poly[at[k]]
+    std::iota(at.begin(), at.end(), 0);
+    auto cross2 = [](const Eigen::Vector2d &a, const Eigen::Vector2d &b) { return a.x() * b.y() - a.y() * b.x(); };
+    const size_t before = out.size();
+    size_t start = 0;
+    while (rest.size() > 3) {
+        const size_t m = rest.size();
+        bool cut = false;
+        for (size_t t = 0; t < m && !cut; ++t) {
+            const size_t i = (start + t) % m, j = (i + m - 1) % m, k = (i + 1) % m;
+            const Eigen::Vector2d &a = q[size_t(at[j])], &b = q[size_t(at[i])], &c = q[size_t(at[k])];
+            const double turn = cross2(b - a, c - b);
+            if (!(turn > 1e-12 * (b - a).norm() * (c - b).norm())) continue; // reflex or straight
+            budget -= static_cast<long long>(m);
+            if (budget < 0) {
+                out.resize(before);
+                return EarClip::OutOfBudget;
+            }
+            bool ear = true;
+            for (size_t r = 0; r < m && ear; ++r) {
+                if (r == i || r == j || r == k) continue;
+                const Eigen::Vector2d &p = q[size_t(at[r])];
+                if (p == a || p == b || p == c) continue; // the same point again (a polygon touching itself)
+                // Inside or on the triangle (a, b, c), counter-clockwise.
+                ear = !(cross2(b - a, p - a) >= 0 && cross2(c - b, p - b) >= 0 && cross2(a - c, p - c) >= 0);
+            }
+            if (!ear) continue;
+            out.push_back({rest[j], rest[i], rest[k]});
+            rest.erase(rest.begin() + std::ptrdiff_t(i));
+            at.erase(at.begin() + std::ptrdiff_t(i));
+            start = j < i ? j : j - 1; // the predecessor, after the erase
+            cut = true;
+        }
+        if (!cut) {
+            out.resize(before);
+            return EarClip::NoEar;
+        }
+    }
+    out.push_back({rest[0], rest[1], rest[2]});
+    return EarClip::Clipped;
+}
+
+/// Triangulates each polygon after removing consecutive repeated indices;
+/// polygons left with fewer than 3 vertices are dropped (counted). A polygon
+/// convex in the plane of its Newell normal (every triangle, most quads) is fanned
+/// from its first vertex; a non-convex one (an L-shaped or letter-shaped CAD face,
+/// whose fan would cover the notch with folded triangles) is ear-clipped. One that
+/// crosses itself in that plane (its turns do not add up to one full turn, or no
+/// ear is left) has no sound triangulation: it is fanned and counted in
+/// rep.polygonsFanned; past kEarClipBudget they are fanned too (rep.largePolygonsFanned).
+std::vector<Face> triangulatePolygons(const std::vector<std::vector<int>> &polygons,
+                                      const std::vector<Vec3> &positions, const FileLoc &loc, LoadReport &rep) {
+    const int nV = int(positions.size());
     std::vector<Face> tris;
     tris.reserve(polygons.size());
     std::vector<int> poly;
+    long long budget = kEarClipBudget;
     for (size_t p = 0; p < polygons.size(); ++p) {
         for (int idx : polygons[p])
             if (idx < 0 || idx >= nV)
@@ -214,7 +289,39 @@ std::vector<Face> fanTriangulatePolygons(const std::vector<std::vector<int>> &po
             ++rep.degenerateFacesDropped;
             continue;
         }
-        if (poly.size() > 3) ++rep.polygonsTriangulated;
+        if (poly.size() > 3) {
+            ++rep.polygonsTriangulated;
+            // Convex in its plane? Every turn along the Newell normal non-negative,
+            // and the turns add up to one full turn (a pentagram turns left at every
+            // corner too, twice around).
+            Vec3 n = Vec3::Zero();
+            for (size_t k = 0; k < poly.size(); ++k)
+                n += positions[size_t(poly[k])].cross(positions[size_t(poly[(k + 1) % poly.size()])]);
+            const Vec3 axis = n.normalized();
+            bool leftTurns = true;
+            double turning = 0;
+            for (size_t k = 0; k < poly.size(); ++k) {
+                const Vec3 &a = positions[size_t(poly[(k + poly.size() - 1) % poly.size()])];
+                const Vec3 &b = positions[size_t(poly[k])], &c = positions[size_t(poly[(k + 1) % poly.size()])];
+                // The turn in the plane: the edges without their parts along the normal
+                // (a twisted quad's edges climb and fall; in the plane it is convex).
+                const Vec3 e0 = (b - a) - axis * axis.dot(b - a), e1 = (c - b) - axis * axis.dot(c - b);
+                const double sine = e0.cross(e1).dot(axis);
+                leftTurns = leftTurns && sine >= -1e-12 * e0.norm() * e1.norm();
+                turning += std::atan2(sine, e0.dot(e1));
+            }
+            // One full turn: the boundary of a region (crossing itself, a polygon
+            // winds twice or not at all).
+            const bool oneTurn = n.squaredNorm() > 0 && std::abs(turning - 2 * M_PI) < 1e-6;
+            if (!(leftTurns && oneTurn) && n.squaredNorm() > 0) {
+                const EarClip clip = oneTurn ? earClip(poly, positions, n, tris, budget) : EarClip::NoEar;
+                if (clip == EarClip::Clipped) {
+                    ++rep.nonConvexPolygonsTriangulated;
+                    continue;
+                }
+                ++(clip == EarClip::NoEar ? rep.polygonsFanned : rep.largePolygonsFanned);
+            }
+        }
         for (size_t k = 1; k + 1 < poly.size(); ++k) tris.push_back({poly[0], poly[k], poly[k + 1]});
     }
     return tris;
@@ -567,12 +674,18 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
     LoadReport rep;
     const FileLoc loc{name};
     rejectBadCoordinatesAndCounts(positions, polygons.size(), loc, options);
-    std::vector<Face> tris = fanTriangulatePolygons(polygons, int(positions.size()), loc, rep);
+    std::vector<Face> tris = triangulatePolygons(polygons, positions, loc, rep);
     const std::vector<int> representative = mergeIdenticalVertices(positions, tris, rep);
     dropDegenerateFaces(positions, tris, rep);
     dropDuplicateFaces(tris, rep);
     // The simple repairs are reported before the topological ones, so that with
     // repair disabled the first problem found in the file is the one named.
+    report(name, options, "self-crossing-polygons", rep.polygonsFanned,
+           "polygons that cross themselves or fold back in their plane (no ear clipping finds their triangles)",
+           "fanned from their first vertex; their triangles may overlap");
+    report(name, options, "large-nonconvex-polygons", rep.largePolygonsFanned,
+           "non-convex polygons too large to ear-clip within the loader's budget (about 14,000 corners in all)",
+           "fanned from their first vertex; their triangles may overlap (triangulate them before loading)");
     report(name, options, "degenerate-faces", rep.degenerateFacesDropped,
            "faces with a repeated vertex or zero area", "dropped");
     report(name, options, "duplicate-vertices", rep.duplicateVerticesMerged,

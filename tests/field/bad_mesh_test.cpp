@@ -266,11 +266,32 @@ TEST_F(BadMesh, LargeOffFilesNameTheirFirstBadLine) {
     // Two bad faces: the first.
     rejects("f.off", file({{fLine - 1 + 15000, "3 0 1 -4"}, {fLine - 1 + 7000, "3 0 1 999999"}}),
             ":" + std::to_string(fLine + 7000) + ":7", "face 7000 uses vertex index '999999'");
-    // A comment line after a bad face: the face; before it: the comment.
+    // A comment line (Geomview's OFF allows them) is skipped: a bad face after it is
+    // named by its own line, and numbered as the faces before it count.
     rejects("fc.off", file({{fLine - 1 + 12000, "# note"}, {fLine - 1 + 500, "3 0 1 999999"}}),
             ":" + std::to_string(fLine + 500) + ":7", "face 500 uses vertex index");
     rejects("c.off", file({{fLine - 1 + 12000, "# note"}, {fLine - 1 + 15000, "3 0 1 999999"}}),
-            ":" + std::to_string(fLine + 12000) + ":1", "comments after the OFF header");
+            ":" + std::to_string(fLine + 15000) + ":7", "face 14999 uses vertex index");
+}
+
+// Geomview's OFF lets '#' begin a comment running to the end of the line: lines of
+// comments before the header, after it, between the vertices and the faces, and
+// comments after the values all load to the mesh of the same file without them (the
+// CGAL data's cube_poly.off, prim.off and mesh_with_colors.off have such lines).
+TEST_F(BadMesh, OffCommentsAnywhereAreSkipped) {
+    const std::string clean = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const std::string commented =
+        "# written by hand\n\n  # indented\nOFF # the keyword\n# counts next\n4 4 0 # V F E\n"
+        "0 0 0\n# the other three\n1 0 0   # x\n0 1 0#y\n0 0 1\n\n# faces\n3 0 2 1 # bottom\n"
+        "3 0 1 3\n3 0 3 2 0.5 0.5 0.5 # with a colour\n3 1 2 3\n# the end\n";
+    const Mesh a = loadMesh(write("clean.off", clean)), b = loadMesh(write("commented.off", commented));
+    EXPECT_EQ(b.positions(), a.positions());
+    EXPECT_EQ(b.faces(), a.faces());
+    // A comment where the keyword should be is still no header; errors keep their lines.
+    rejects("nokey.off", "# nothing but\n# comments\n", ":1:1", "expected an OFF header line");
+    rejects("badkey.off", "# a comment\nOFX\n3 1 0\n", ":2:1", "expected an OFF header line");
+    rejects("badv.off", "# c\nOFF\n3 1 0\n# c\n0 0 0\n1 x 0 # c\n0 1 0\n3 0 1 2\n", ":6:3",
+            "expected a coordinate");
 }
 
 TEST_F(BadMesh, TruncatedBinaryPlyAndStl) {

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <unistd.h>
 
 using namespace rosy;
@@ -211,9 +212,11 @@ TEST_F(MeshIoTest, RejectsUnknownExtensionEmptyAndGarbage) {
     expectInputError(p, [&] { loadMesh(p); });
     p = write("garbage.stl", "12345 not stl");
     expectInputError(p, [&] { loadMesh(p); });
+    // A comment line is skipped (Geomview's OFF has them); the truncation is named at the counts.
     p = write("comment.off", "OFF\n# made by hand\n4 4 0\n0 0 0\n");
     std::string msg = expectInputError(p, [&] { loadMesh(p); });
-    EXPECT_NE(msg.find("comment.off:2:1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("comment.off:3:1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("header says 4 vertices"), std::string::npos) << msg;
     p = write("garbage.obj", "just some words\n");
     expectInputError(p, [&] { loadMesh(p); }); // no faces
 }
@@ -477,6 +480,122 @@ TEST(MeshRepair, PolygonsAreFanTriangulatedWithoutWarnings) {
     double a = 0;
     for (int f = 0; f < m.nFaces(); ++f) a += m.faceArea(f);
     EXPECT_NEAR(a, 5.0, 1e-12); // shoelace formula on the pentagon
+}
+
+namespace {
+
+/// Whether 2D point (x, y) lies strictly inside the L-shaped hexagon [0, 2]² minus
+/// [0, 1)² (the CGAL data's corner_poly.off face, in the plane z = 1).
+bool insideL(double x, double y) { return x > 0 && x < 2 && y > 0 && y < 2 && (x > 1 || y > 1); }
+
+} // namespace
+
+// An L-shaped face (corner_poly.off's top) fanned from its first vertex, the inner
+// corner, would lay triangles over the notch; ear-clipped, its four triangles lie in
+// the L (every centroid, every edge midpoint inside it) and sum to its area, 3,
+// wound as the polygon, with no warning: it is an ordinary face. Convex polygons
+// keep their fan from the first vertex.
+TEST(MeshRepair, NonConvexPolygonsAreEarClippedAndConvexOnesFanned) {
+    std::vector<Vec3> p = {{0, 1, 1}, {1, 1, 1}, {1, 0, 1}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1}};
+    WarningCapture capture;
+    LoadReport rep;
+    LoadOptions strict;
+    strict.repair = false; // triangulating is not a repair
+    const Mesh m = repairAndBuild(p, {{0, 1, 2, 3, 4, 5}}, "L", strict, &rep);
+    EXPECT_EQ(rep.polygonsTriangulated, 1);
+    EXPECT_EQ(rep.nonConvexPolygonsTriangulated, 1);
+    EXPECT_EQ(rep.polygonsFanned, 0);
+    EXPECT_TRUE(capture.warnings().empty());
+    ASSERT_EQ(m.nFaces(), 4);
+    double area = 0;
+    for (int f = 0; f < m.nFaces(); ++f) {
+        area += m.faceArea(f);
+        EXPECT_GT(m.faceNormal(f).z(), 0.999) << "face " << f << " is wound against the polygon";
+        Vec3 c = Vec3::Zero();
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 a = m.position(m.face(f)[k]), b = m.position(m.face(f)[(k + 1) % 3]);
+            c += a / 3;
+            const Vec3 mid = 0.5 * (a + b);
+            // Edge midpoints on the L's boundary are fine; none may lie in the notch.
+            EXPECT_FALSE(mid.x() < 1 - 1e-12 && mid.y() < 1 - 1e-12) << "face " << f << " crosses the notch";
+        }
+        EXPECT_TRUE(insideL(c.x(), c.y())) << "face " << f << " centroid " << c.transpose();
+    }
+    EXPECT_NEAR(area, 3.0, 1e-12);
+
+    // A convex hexagon: the fan from vertex 0, as before.
+    std::vector<Vec3> hex;
+    for (int k = 0; k < 6; ++k) hex.emplace_back(std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), 0);
+    LoadReport convexRep;
+    const Mesh fan = repairAndBuild(hex, {{0, 1, 2, 3, 4, 5}}, "hexagon", strict, &convexRep);
+    EXPECT_EQ(convexRep.nonConvexPolygonsTriangulated, 0);
+    ASSERT_EQ(fan.nFaces(), 4);
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(fan.face(f), (Face{0, f + 1, f + 2})) << f;
+}
+
+// A polygon that crosses itself in its plane (a pentagram's five points in star
+// order) has no triangulation on its own corners: it is fanned, counted and warned
+// about; with repair off it is rejected. A large non-convex polygon is ear-clipped
+// into the right area, and one past the clipping's budget is fanned with a warning.
+TEST(MeshRepair, SelfCrossingPolygonsAreFannedWithAWarningAndLargeOnesClipped) {
+    std::vector<Vec3> star;
+    for (int k = 0; k < 5; ++k) star.emplace_back(std::cos(k * 4 * M_PI / 5), std::sin(k * 4 * M_PI / 5), 0);
+    // Not in star order: a flat pentagram has its corners in this order around it.
+    WarningCapture capture;
+    LoadReport rep;
+    const Mesh m = repairAndBuild(star, {{0, 1, 2, 3, 4}}, "pentagram", {}, &rep);
+    EXPECT_EQ(rep.polygonsFanned, 1);
+    EXPECT_EQ(m.nFaces(), 3);
+    ASSERT_EQ(capture.warnings().size(), 1u);
+    EXPECT_EQ(capture.warnings()[0].kind, "self-crossing-polygons");
+    EXPECT_EQ(capture.warnings()[0].where, "pentagram");
+    EXPECT_NE(capture.warnings()[0].message.find("fanned"), std::string::npos) << capture.warnings()[0].message;
+    LoadOptions strict;
+    strict.repair = false;
+    EXPECT_THROW(repairAndBuild(star, {{0, 1, 2, 3, 4}}, "pentagram", strict), InputError);
+
+    // Combs: teeth of width 1 and height 10 on a spine of height 1. 1,000 teeth
+    // (4,002 corners) are ear-clipped into the comb's area; 4,000 teeth exhaust the
+    // budget and are fanned, with a warning, without taking long.
+    auto comb = [](int teeth) {
+        std::vector<Vec3> points;
+        for (int t = 0; t < teeth; ++t) {
+            points.emplace_back(2.0 * t, 1, 0);
+            points.emplace_back(2.0 * t, 11, 0);
+            points.emplace_back(2.0 * t + 1, 11, 0);
+            points.emplace_back(2.0 * t + 1, 1, 0);
+        }
+        points.emplace_back(2.0 * teeth - 1, 0, 0);
+        points.emplace_back(0, 0, 0);
+        return points;
+    };
+    auto loopOf = [](size_t n) {
+        std::vector<int> loop(n);
+        std::iota(loop.begin(), loop.end(), 0);
+        return loop;
+    };
+    const std::vector<Vec3> small = comb(1000);
+    LoadReport combRep;
+    const Mesh c = repairAndBuild(small, {loopOf(small.size())}, "comb", strict, &combRep);
+    EXPECT_EQ(combRep.nonConvexPolygonsTriangulated, 1);
+    double area = 0;
+    for (int f = 0; f < c.nFaces(); ++f) area += c.faceArea(f);
+    EXPECT_NEAR(area, (2.0 * 1000 - 1) * 1 + 1000 * 10.0, 1e-6);
+    // The comb runs clockwise seen from +z (teeth left to right, spine back): so do its triangles.
+    for (int f = 0; f < c.nFaces(); ++f) EXPECT_LT(c.faceNormal(f).z(), -0.999) << f;
+
+    const std::vector<Vec3> large = comb(4000);
+    WarningCapture largeCapture;
+    LoadReport largeRep;
+    const auto t0 = std::chrono::steady_clock::now();
+    repairAndBuild(large, {loopOf(large.size())}, "large comb", {}, &largeRep);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(largeRep.largePolygonsFanned, 1);
+    // First (then what the overlapping fan brings: zero-area and folded faces).
+    ASSERT_GE(largeCapture.warnings().size(), 1u);
+    EXPECT_EQ(largeCapture.warnings()[0].kind, "large-nonconvex-polygons");
+    RecordProperty("large_comb_seconds", std::to_string(seconds));
+    RecordProperty("comb_seconds", std::to_string(seconds));
 }
 
 TEST(MeshRepair, NothingLeftIsAnError) {
