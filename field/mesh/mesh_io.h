@@ -37,6 +37,14 @@ struct LoadReport {
     int nonManifoldEdgesSplit = 0;
     int nonManifoldVerticesSplit = 0;
     int facesReoriented = 0;
+
+    /// Whether anything was repaired: what a load with LoadOptions::repair off rejects.
+    /// (Triangulating, and ear-clipping non-convex polygons, is not a repair.)
+    bool anyRepair() const {
+        return polygonsFanned || largePolygonsFanned || degenerateFacesDropped || duplicateVerticesMerged ||
+               duplicateFacesDropped || isolatedVerticesDropped || nonManifoldEdgesSplit ||
+               nonManifoldVerticesSplit || facesReoriented;
+    }
 };
 
 /// Loads and repairs a mesh. The format comes from the extension (.obj .ply .off .stl,

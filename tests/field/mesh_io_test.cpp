@@ -505,6 +505,7 @@ TEST(MeshRepair, NonConvexPolygonsAreEarClippedAndConvexOnesFanned) {
     EXPECT_EQ(rep.polygonsTriangulated, 1);
     EXPECT_EQ(rep.nonConvexPolygonsTriangulated, 1);
     EXPECT_EQ(rep.polygonsFanned, 0);
+    EXPECT_FALSE(rep.anyRepair());
     EXPECT_TRUE(capture.warnings().empty());
     ASSERT_EQ(m.nFaces(), 4);
     double area = 0;
@@ -545,6 +546,7 @@ TEST(MeshRepair, SelfCrossingPolygonsAreFannedWithAWarningAndLargeOnesClipped) {
     LoadReport rep;
     const Mesh m = repairAndBuild(star, {{0, 1, 2, 3, 4}}, "pentagram", {}, &rep);
     EXPECT_EQ(rep.polygonsFanned, 1);
+    EXPECT_TRUE(rep.anyRepair()); // what makes the strict load below reject it
     EXPECT_EQ(m.nFaces(), 3);
     ASSERT_EQ(capture.warnings().size(), 1u);
     EXPECT_EQ(capture.warnings()[0].kind, "self-crossing-polygons");
@@ -591,6 +593,7 @@ TEST(MeshRepair, SelfCrossingPolygonsAreFannedWithAWarningAndLargeOnesClipped) {
     repairAndBuild(large, {loopOf(large.size())}, "large comb", {}, &largeRep);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_EQ(largeRep.largePolygonsFanned, 1);
+    EXPECT_TRUE(largeRep.anyRepair());
     // First (then what the overlapping fan brings: zero-area and folded faces).
     ASSERT_GE(largeCapture.warnings().size(), 1u);
     EXPECT_EQ(largeCapture.warnings()[0].kind, "large-nonconvex-polygons");

@@ -28,11 +28,7 @@ namespace {
 /// tens of MB through our reader and repair, and keeps one execution well under a second.
 constexpr int64_t kMaxFaces = 100'000;
 
-bool anyRepair(const field::LoadReport &r) {
-    return r.degenerateFacesDropped || r.duplicateVerticesMerged || r.duplicateFacesDropped ||
-           r.isolatedVerticesDropped || r.nonManifoldEdgesSplit || r.nonManifoldVerticesSplit ||
-           r.facesReoriented;
-}
+bool anyRepair(const field::LoadReport &r) { return r.anyRepair(); }
 
 } // namespace
 
