@@ -78,7 +78,6 @@ FeatureCurves findFeatureCurves(const Mesh &mesh, double angleDeg, double minCur
         // shorter ones are dropped (a crease of a few edges on an organic mesh is noise).
         const int nE = int(c.edges.size());
         UnionFind curve(nE);
-        auto find = [&](int e) { return curve.find(e); };
         std::vector<int> firstAt(size_t(nV), -1);
         for (int e = 0; e < nE; ++e)
             for (int v : c.edges[size_t(e)]) {
@@ -88,12 +87,12 @@ FeatureCurves findFeatureCurves(const Mesh &mesh, double angleDeg, double minCur
             }
         std::vector<double> length(size_t(nE), 0.0);
         for (int e = 0; e < nE; ++e)
-            length[size_t(find(e))] +=
+            length[size_t(curve.find(e))] +=
                 (mesh.position(c.edges[size_t(e)][0]) - mesh.position(c.edges[size_t(e)][1])).norm();
         std::vector<std::array<int, 2>> kept;
         std::vector<char> keptBoundary;
         for (int e = 0; e < nE; ++e)
-            if (isBoundary[size_t(e)] || length[size_t(find(e))] >= minCurveLength)
+            if (isBoundary[size_t(e)] || length[size_t(curve.find(e))] >= minCurveLength)
                 kept.push_back(c.edges[size_t(e)]), keptBoundary.push_back(isBoundary[size_t(e)]);
         c.edges.swap(kept);
         isBoundary.swap(keptBoundary);

@@ -125,7 +125,9 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     double contourMs = 0;
     const bool contoursHere = out.contoursPending;
     if (contoursHere) ROSY_CHECK(in.mesh && in.scene);
+    bool besideStarted = false; // startBeside() was called (it may have nothing to run)
     auto startBeside = [&] {
+        besideStarted = true;
         if (!contoursHere && !in.raster) return;
         besideTask.run([&] {
             if (contoursHere) {
@@ -142,11 +144,9 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
     };
 
     styles::HatchStyle hatchStyle = in.style.hatch;
-    bool besideStarted = false;
     if (in.quadLines) {
         // Lines on the surface need no calibration: their spacing is the mesh's.
         startBeside();
-        besideStarted = true;
         hatchStyle.calibrateInk = false;
         out.strokes = isolated([&] {
             return quadLineHatches(*in.quadLines, out.screen, out.targetDensity, out.gbuffer, camera, hatchStyle,
@@ -160,10 +160,8 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
         }
     } else {
         out.strokes = isolated([&] {
-            return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed, nullptr, [&] {
-                startBeside();
-                besideStarted = true;
-            });
+            return traceHatches(out.screen, out.targetDensity, out.gbuffer, hatchStyle, in.style.seed, nullptr,
+                                startBeside);
         });
     }
     ROSY_CHECK(besideStarted); // traceHatches() calls whileTracing on every path that returns

@@ -32,14 +32,34 @@ struct EdgeFaces {
     }
 };
 
+/// Opposite angles summing to at most π plus this (radians) count as Delaunay
+/// (flipCoplanarToDelaunay()).
+constexpr double kCocircularSlack = 1e-9;
+
+/// The faces beside every edge of `faces`, keyed by edgeKey(); `keys` (if given)
+/// receives each edge's key once, in the order the faces first reach it.
+using EdgeMap = std::unordered_map<uint64_t, EdgeFaces>;
+EdgeMap facesBesideEdges(const std::vector<Face> &faces, std::vector<uint64_t> *keys = nullptr) {
+    EdgeMap edges;
+    edges.reserve(faces.size() * 2);
+    for (int f = 0; f < int(faces.size()); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const uint64_t key = edgeKey(faces[size_t(f)][k], faces[size_t(f)][(k + 1) % 3]);
+            auto [it, fresh] = edges.try_emplace(key);
+            it->second.add(f);
+            if (fresh && keys) keys->push_back(key);
+        }
+    return edges;
+}
+
 } // namespace
 
 Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Refinement *report) {
     ROSY_CHECK(maxEdge > 0 && std::isfinite(maxEdge));
     std::vector<Vec3> positions = mesh.positions();
     std::vector<Face> faces = mesh.faces();
-    std::unordered_map<uint64_t, EdgeFaces> edges;
-    edges.reserve(faces.size() * 2);
+    std::vector<uint64_t> keys;
+    EdgeMap edges = facesBesideEdges(faces, &keys);
     // Longest first; equal lengths by their vertex pair, so the order (and the
     // result) never depends on hashing.
     using Entry = std::tuple<double, int, int>; // length, a < b
@@ -50,16 +70,11 @@ Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Re
         if (l > maxEdge) queue.emplace(l, std::min(a, b), std::max(a, b));
     };
     double longest = 0;
-    for (int f = 0; f < int(faces.size()); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const int a = faces[size_t(f)][k], b = faces[size_t(f)][(k + 1) % 3];
-            auto [it, fresh] = edges.try_emplace(edgeKey(a, b));
-            it->second.add(f);
-            if (fresh) {
-                longest = std::max(longest, length(a, b));
-                push(a, b);
-            }
-        }
+    for (const uint64_t key : keys) {
+        const int a = int(key >> 32), b = int(key & 0xffffffffu);
+        longest = std::max(longest, length(a, b));
+        push(a, b);
+    }
     int bisections = 0;
     while (!queue.empty()) {
         const auto [l, a, b] = queue.top();
@@ -104,24 +119,11 @@ Mesh refineLongEdges(const Mesh &mesh, double maxEdge, long long maxVertices, Re
     return Mesh::fromTriangles(std::move(positions), std::move(faces), mesh.name());
 }
 
-namespace {
-/// Opposite angles summing to at most π plus this (radians) count as Delaunay.
-constexpr double kCocircularSlack = 1e-9;
-} // namespace
-
 Mesh flipCoplanarToDelaunay(const Mesh &mesh, int *flips) {
     std::vector<Face> faces = mesh.faces();
     const std::vector<Vec3> &x = mesh.positions();
-    std::unordered_map<uint64_t, EdgeFaces> edges;
-    edges.reserve(faces.size() * 2);
     std::vector<uint64_t> keys;
-    for (int f = 0; f < int(faces.size()); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const uint64_t key = edgeKey(faces[size_t(f)][k], faces[size_t(f)][(k + 1) % 3]);
-            auto [it, fresh] = edges.try_emplace(key);
-            it->second.add(f);
-            if (fresh) keys.push_back(key);
-        }
+    EdgeMap edges = facesBesideEdges(faces, &keys);
     std::sort(keys.begin(), keys.end());
     std::deque<uint64_t> work(keys.begin(), keys.end());
     auto normal = [&](const Face &f) { return Vec3((x[size_t(f[1])] - x[size_t(f[0])]).cross(x[size_t(f[2])] - x[size_t(f[0])])); };

@@ -211,8 +211,8 @@ EarClip earClip(const std::vector<int> &poly, const std::vector<Vec3> &positions
     // An orthonormal frame (u, v) of the plane with u × v along n: the polygon is
     // counter-clockwise in it.
     const Vec3 nn = n.normalized();
-    const int axis = nn.cwiseAbs()[0] <= nn.cwiseAbs()[1] ? (nn.cwiseAbs()[0] <= nn.cwiseAbs()[2] ? 0 : 2)
-                                                          : (nn.cwiseAbs()[1] <= nn.cwiseAbs()[2] ? 1 : 2);
+    int axis = 0; // the coordinate axis least along n (the first on ties)
+    nn.cwiseAbs().minCoeff(&axis);
     const Vec3 u = nn.cross(Vec3::Unit(axis)).normalized(), v = nn.cross(u);
     std::vector<int> rest = poly;
     std::vector<Eigen::Vector2d> q;
@@ -298,21 +298,39 @@ std::vector<Face> triangulatePolygons(const std::vector<std::vector<int>> &polyg
             for (size_t k = 0; k < poly.size(); ++k)
                 n += positions[size_t(poly[k])].cross(positions[size_t(poly[(k + 1) % poly.size()])]);
             const Vec3 axis = n.normalized();
-            bool leftTurns = true;
-            double turning = 0;
-            for (size_t k = 0; k < poly.size(); ++k) {
+            // The turn at corner k in the plane: the edges without their parts along the
+            // normal (a twisted quad's edges climb and fall; in the plane it is convex).
+            // Writes its sine and cosine times the edges' lengths, returns that product.
+            auto turnAt = [&](size_t k, double &sine, double &cosine) {
                 const Vec3 &a = positions[size_t(poly[(k + poly.size() - 1) % poly.size()])];
                 const Vec3 &b = positions[size_t(poly[k])], &c = positions[size_t(poly[(k + 1) % poly.size()])];
-                // The turn in the plane: the edges without their parts along the normal
-                // (a twisted quad's edges climb and fall; in the plane it is convex).
                 const Vec3 e0 = (b - a) - axis * axis.dot(b - a), e1 = (c - b) - axis * axis.dot(c - b);
-                const double sine = e0.cross(e1).dot(axis);
-                leftTurns = leftTurns && sine >= -1e-12 * e0.norm() * e1.norm();
-                turning += std::atan2(sine, e0.dot(e1));
+                sine = e0.cross(e1).dot(axis);
+                cosine = e0.dot(e1);
+                return e0.norm() * e1.norm();
+            };
+            bool leftTurns = true, strictlyLeft = true;
+            for (size_t k = 0; k < poly.size(); ++k) {
+                double sine, cosine;
+                const double scale = turnAt(k, sine, cosine);
+                leftTurns = leftTurns && sine >= -1e-12 * scale;
+                strictlyLeft = strictlyLeft && sine > 1e-12 * scale;
             }
-            // One full turn: the boundary of a region (crossing itself, a polygon
-            // winds twice or not at all).
-            const bool oneTurn = n.squaredNorm() > 0 && std::abs(turning - 2 * M_PI) < 1e-6;
+            // A quad turning strictly left at every corner turns once around (four
+            // turns in (0, π) adding up to a whole number of turns): every quad of a
+            // quad mesh, without the angles' sum below.
+            bool oneTurn = n.squaredNorm() > 0 && strictlyLeft && poly.size() == 4;
+            if (!oneTurn && n.squaredNorm() > 0) {
+                double turning = 0;
+                for (size_t k = 0; k < poly.size(); ++k) {
+                    double sine, cosine;
+                    turnAt(k, sine, cosine);
+                    turning += std::atan2(sine, cosine);
+                }
+                // One full turn: the boundary of a region (crossing itself, a polygon
+                // winds twice or not at all).
+                oneTurn = std::abs(turning - 2 * M_PI) < 1e-6;
+            }
             if (!(leftTurns && oneTurn) && n.squaredNorm() > 0) {
                 const EarClip clip = oneTurn ? earClip(poly, positions, n, tris, budget) : EarClip::NoEar;
                 if (clip == EarClip::Clipped) {

@@ -206,10 +206,7 @@ public:
     /// so far, are skipped. nullptr if none.
     const Sample *nearest(const Vec2 &p, double r, int family, bool same) const {
         const std::vector<uint32_t> &count = m_count[(family != 0) == same ? 1 : 0];
-        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
-        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
-        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
-        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        const auto [x0, x1, y0, y1] = cellsAround(p, r);
         if (x0 > x1 || y0 > y1) return nullptr;
         const int px = std::clamp(int(std::floor(p.x() / m_cell)), x0, x1);
         const int py = std::clamp(int(std::floor(p.y() / m_cell)), y0, y1);
@@ -258,10 +255,7 @@ public:
     /// samples then costs the cell counts alone.
     template <typename F> bool anyOfFamily(const Vec2 &p, double r, int family, F &&f) const {
         const std::vector<uint32_t> &count = m_count[family != 0];
-        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
-        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
-        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
-        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        const auto [x0, x1, y0, y1] = cellsAround(p, r);
         for (int cy = y0; cy <= y1; ++cy)
             for (int cx = x0; cx <= x1; ++cx) {
                 const size_t c = size_t(cy) * size_t(m_nx) + size_t(cx);
@@ -274,10 +268,7 @@ public:
 
     /// Calls f(sample) for samples in cells overlapping the disc (p, r) until f returns true.
     template <typename F> bool any(const Vec2 &p, double r, F &&f) const {
-        const int x0 = std::max(0, int(std::floor((p.x() - r) / m_cell)));
-        const int x1 = std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell)));
-        const int y0 = std::max(0, int(std::floor((p.y() - r) / m_cell)));
-        const int y1 = std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)));
+        const auto [x0, x1, y0, y1] = cellsAround(p, r);
         for (int cy = y0; cy <= y1; ++cy)
             for (int cx = x0; cx <= x1; ++cx)
                 for (const Sample &s : m_cells[size_t(cy) * size_t(m_nx) + size_t(cx)])
@@ -286,6 +277,17 @@ public:
     }
 
 private:
+    /// The cells [x0, x1] × [y0, y1] that overlap the square of half-side r around p,
+    /// clipped to the grid (none when x0 > x1 or y0 > y1).
+    struct CellRange {
+        int x0, x1, y0, y1;
+    };
+    CellRange cellsAround(const Vec2 &p, double r) const {
+        return {std::max(0, int(std::floor((p.x() - r) / m_cell))),
+                std::min(m_nx - 1, int(std::floor((p.x() + r) / m_cell))),
+                std::max(0, int(std::floor((p.y() - r) / m_cell))),
+                std::min(m_ny - 1, int(std::floor((p.y() + r) / m_cell)))};
+    }
     /// Distance from coordinate v to the interval [lo, lo + size] (0 inside).
     static double gap(double v, double lo, double size) { return std::max(0.0, std::max(lo - v, v - (lo + size))); }
     static constexpr int kBlock = 4; // cells per block side for anyWithin()'s first pruning

@@ -28,8 +28,6 @@ namespace {
 /// tens of MB through our reader and repair, and keeps one execution well under a second.
 constexpr int64_t kMaxFaces = 100'000;
 
-bool anyRepair(const field::LoadReport &r) { return r.anyRepair(); }
-
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -56,11 +54,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     try {
         field::LoadReport strictReport;
         const field::Mesh strict = field::loadMesh(path, options, &strictReport);
-        ROSY_FUZZ_ASSERT(!anyRepair(report), "strict load accepted a file that needed repairs");
+        ROSY_FUZZ_ASSERT(!report.anyRepair(), "strict load accepted a file that needed repairs");
         ROSY_FUZZ_ASSERT(strict.nVertices() == stats.vertices && strict.nFaces() == stats.faces,
                          "strict and repairing loads disagree");
     } catch (const InputError &) {
-        ROSY_FUZZ_ASSERT(anyRepair(report), "strict load rejected a file that needed no repair");
+        ROSY_FUZZ_ASSERT(report.anyRepair(), "strict load rejected a file that needed no repair");
     }
     return 0;
 }
