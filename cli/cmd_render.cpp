@@ -235,6 +235,8 @@ void runRender(const RenderOptions &opt) {
         json.field("strokes", int(il.strokes.strokes.size()));
         json.field("hatch_strokes", il.hatch.strokes);
         json.field("contour_strokes", int(il.strokes.strokes.size()) - il.hatch.strokes);
+        json.field("contour_creases_below_scale", il.contours.nCreasesBelowScale);
+        json.field("contour_scan_noise", il.contours.judgedAtPictureScale);
         json.field("ink_length_px", il.hatch.inkLengthPx);
         json.field("min_spacing_violations", il.hatch.minSpacingViolations);
         json.field("strokes_near_singularities", il.hatch.strokesNearSingularities);

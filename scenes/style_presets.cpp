@@ -64,6 +64,7 @@ const std::vector<StyleKey> &styleKeyTable() {
         ROSY_NUM("contour.width_px", 0.0, 64.0, contour.widthPx),
         ROSY_NUM("contour.crease_width_px", 0.0, 64.0, contour.creaseWidthPx),
         ROSY_NUM("contour.crease_angle_deg", 0.0, 180.0, contour.creaseAngleDeg),
+        ROSY_NUM("contour.feature_scale_px", 0.0, 256.0, contour.featureScalePx),
         ROSY_BOOL("contour.borders", contour.borders),
         ROSY_BOOL("contour.hidden", contour.hidden),
         StyleKey{"page.size", SK::Text, 0, 0, nullptr, nullptr, nullptr, nullptr},

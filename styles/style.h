@@ -64,6 +64,13 @@ struct ContourStyle {
     double widthPx = 1.8;          ///< silhouette width
     double creaseWidthPx = 1.2;    ///< crease and border width
     double creaseAngleDeg = 140.0; ///< edges whose dihedral angle is below this are creases (Blender Line Art's default)
+    /// The picture's scale for a scan's outlines, in pixels. Where the edges whose faces
+    /// bend past the crease angle while the surface does not over this much surface are
+    /// more than 5 % of the mesh's edges and 3/4 of its bent ones (a scan's noise and
+    /// needle triangles), a crease must also bend so at this scale (and a quarter of
+    /// it), and silhouette loops and pieces under half of it are dropped; a modelled
+    /// mesh keeps every crease. 0: never.
+    double featureScalePx = 8.0;
     bool borders = true;           ///< draw mesh borders (open boundaries)
     bool hidden = false;           ///< also emit hidden contours (HiddenContour strokes)
 };

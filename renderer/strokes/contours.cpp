@@ -29,6 +29,14 @@ constexpr double kOutlineProbePx = 2.0; // across-line distance at which its two
 // At a junction (a node with other than two segments) a chain continues only into
 // a segment turning less than this, preferring the straightest one.
 constexpr double kMaxJunctionTurnDeg = 45.0;
+// Outlines are judged at the picture's scale (ContourStyle::featureScalePx) when more
+// than kScanNoiseEdgeFraction of the mesh's edges, and more than kScanNoiseCreaseFraction
+// of the edges whose faces bend past the crease angle, are creases only below it (a
+// scan's noise; Extractor::computeFaceNormalsAndCreases). The walks over the surface
+// that measure a crease cross at most kMaxWalkFaces faces.
+constexpr double kScanNoiseEdgeFraction = 0.05;
+constexpr double kScanNoiseCreaseFraction = 0.75;
+constexpr int kMaxWalkFaces = 64;
 
 enum class SegClass : uint8_t { Silhouette, Crease, Border };
 
@@ -75,9 +83,22 @@ public:
 
 private:
     void computeFaceNormalsAndCreases();
+    bool creaseAtPictureScale(int h, double cosLimitChord) const;
+    /// A straight walk over the surface (creaseAtPictureScale): the face it is in, entered
+    /// through halfedge `entry`, its point and unit heading, how far it has come and
+    /// through how many faces, and whether it has stopped for good.
+    struct SurfaceWalk {
+        int entry;
+        Vec3 p, dir;
+        double walked = 0.0;
+        int faces = 0;
+        bool stopped = false;
+    };
+    Vec3 advance(SurfaceWalk &w, double dist, double reach, double ownDot, bool &sharper) const;
     void computeCornerValues();
     void buildSegments();
     void buildChains();
+    bool tooSmallToDraw(const Chain &chain) const;
     void traceChain(int start, Chain &chain, std::vector<uint8_t> &used) const;
     int nextSegment(int node, int group, const Vec2 &dirIn, const std::vector<uint8_t> &used) const;
     std::vector<Stroke> strokesOfChain(const Chain &chain) const;
@@ -103,13 +124,20 @@ private:
     std::vector<std::pair<int64_t, int>> m_incidence;
     int64_t m_nNodes = 0;
     std::vector<Chain> m_chains;
+    int m_smallLoopsDropped = 0;
+    int m_creasesBelowScale = 0; // edges whose faces bend past the threshold but not the surface at the picture's scale
+    bool m_pictureScale = false; // outlines judged at the picture's scale (a scan's noise; see computeFaceNormalsAndCreases)
 };
 
 void Extractor::computeFaceNormalsAndCreases() {
     const int nE = m_mesh.nEdges();
     // Dihedral angle (180° = flat) below the threshold <=> the normals turn by more
     // than 180° − threshold, i.e. n0·n1 < cos(180° − threshold).
-    const double cosLimit = std::cos(kPi - m_style.creaseAngleDeg * kPi / 180.0);
+    const double threshold = m_style.creaseAngleDeg * kPi / 180.0;
+    const double cosLimit = std::cos(kPi - threshold);
+    const bool judge = m_style.featureScalePx > 0.0;
+    // 1: a crease; 2: its faces bend past the threshold but the surface does not at
+    // the picture's scale (creaseAtPictureScale).
     m_crease.assign(size_t(nE), 0);
     parallelFor(0, nE, [&](int64_t e) {
         int h = m_mesh.edgeHalfedge(int(e)), t = m_mesh.twin(h);
@@ -118,8 +146,98 @@ void Extractor::computeFaceNormalsAndCreases() {
         const Vec3 &n1 = m_faceNormal[size_t(field::Mesh::faceOf(t))];
         // A zero-area face has no orientation to bend against.
         if (n0.squaredNorm() == 0.0 || n1.squaredNorm() == 0.0) return;
-        m_crease[size_t(e)] = n0.dot(n1) < cosLimit ? 1 : 0;
+        if (n0.dot(n1) >= cosLimit) return;
+        m_crease[size_t(e)] = judge && !creaseAtPictureScale(h, std::cos(threshold)) ? 2 : 1;
     });
+    m_creasesBelowScale = int(std::count(m_crease.begin(), m_crease.end(), uint8_t(2)));
+    const int64_t bent = nE - int64_t(std::count(m_crease.begin(), m_crease.end(), uint8_t(0)));
+    // The outlines are judged at the picture's scale only where such creases are both
+    // common and most of the creases there are: on a scan, whose noise and needles make
+    // them everywhere. On a modelled mesh they are the few narrow real details (a
+    // toenail's rim, a groove; a machine part's small fillets in a small picture) among
+    // its real creases, and every crease is drawn as before.
+    m_pictureScale = judge && m_creasesBelowScale > kScanNoiseEdgeFraction * nE &&
+                     m_creasesBelowScale > kScanNoiseCreaseFraction * double(bent);
+    for (uint8_t &c : m_crease) c = c == 1 || (c == 2 && !m_pictureScale) ? 1 : 0;
+}
+
+/// Advances a straight walk over the surface to `dist` from its start and returns the
+/// point reached. At each edge crossed the heading is unfolded into the next face: it
+/// keeps its component along the edge and turns the rest into the next face's plane.
+/// The walk stops for good at a border, a degenerate face, or after kMaxWalkFaces
+/// faces (the point is then where it stopped). `sharper` is set when an edge crossed
+/// within `reach` of the start bends more than normals of dot product `ownDot`.
+Vec3 Extractor::advance(SurfaceWalk &w, double dist, double reach, double ownDot, bool &sharper) const {
+    while (!w.stopped && w.faces < kMaxWalkFaces) {
+        const Vec3 &n = m_faceNormal[size_t(field::Mesh::faceOf(w.entry))];
+        if (n.squaredNorm() == 0.0) break;
+        // Leave through the nearer of the two other edges that the heading points out of.
+        double best = std::numeric_limits<double>::infinity();
+        int exit = -1;
+        for (int he = field::Mesh::next(w.entry); he != w.entry; he = field::Mesh::next(he)) {
+            const Vec3 &a = m_mesh.position(m_mesh.tail(he));
+            const Vec3 inward = n.cross(m_mesh.position(m_mesh.head(he)) - a);
+            const double rate = w.dir.dot(inward);
+            if (rate >= 0.0) continue;
+            const double t = std::max(0.0, (a - w.p).dot(inward) / rate);
+            if (t < best) {
+                best = t;
+                exit = he;
+            }
+        }
+        if (exit < 0) break;
+        if (w.walked + best >= dist) return w.p + (dist - w.walked) * w.dir;
+        const int next = m_mesh.twin(exit);
+        if (next < 0) break;
+        const Vec3 &n2 = m_faceNormal[size_t(field::Mesh::faceOf(next))];
+        if (n2.squaredNorm() == 0.0) break;
+        w.p += best * w.dir;
+        w.walked += best;
+        if (w.walked <= reach && n.dot(n2) < ownDot) sharper = true;
+        const Vec3 a = m_mesh.position(m_mesh.tail(next)), b = m_mesh.position(m_mesh.head(next));
+        const Vec3 along = (b - a).normalized();
+        const double c = w.dir.dot(along);
+        w.dir = c * along + std::sqrt(std::max(0.0, 1.0 - c * c)) * n2.cross(b - a).normalized();
+        w.entry = next;
+        ++w.faces;
+    }
+    w.stopped = true;
+    return w.p;
+}
+
+/// Whether the edge of h, whose two faces bend by more than the crease threshold, is a
+/// crease at the picture's scale s = featureScalePx. From the edge's midpoint the
+/// surface is walked straight away from the edge on either side, s/4 and s pixels'
+/// worth of world size; at both lengths the two points reached must make an angle at
+/// the midpoint below the threshold (cosine above cosLimitChord): for flat faces the
+/// angle between the two chords is the dihedral angle itself, so a fold with flat
+/// sides passes at any length, while a scan's noise (a few tenths of a pixel over a
+/// pixel or two) and its needle triangles do not survive the longer one. And no edge
+/// crossed within s/2 may bend more than this one: beside a real fold, the long chords
+/// of the noise next to it see that fold, not their own. Where the walks stay inside
+/// the edge's own two faces (every crease of a coarse solid) the faces' test stands.
+bool Extractor::creaseAtPictureScale(int h, double cosLimitChord) const {
+    const int t = m_mesh.twin(h);
+    const Vec3 a = m_mesh.position(m_mesh.tail(h)), b = m_mesh.position(m_mesh.head(h));
+    const Vec3 &n0 = m_faceNormal[size_t(field::Mesh::faceOf(h))], &n1 = m_faceNormal[size_t(field::Mesh::faceOf(t))];
+    const Vec3 mid = 0.5 * (a + b);
+    const double s = m_style.featureScalePx * pixelWorldSize(std::max(m_camera.depth(mid), 1e-12));
+    const Vec3 in0 = n0.cross(b - a).normalized(), in1 = n1.cross(a - b).normalized();
+    SurfaceWalk w0{h, mid, in0}, w1{t, mid, in1};
+    bool sharper = false;
+    for (double dist : {0.25 * s, s}) {
+        const Vec3 p0 = advance(w0, dist, 0.5 * s, n0.dot(n1), sharper);
+        const Vec3 p1 = advance(w1, dist, 0.5 * s, n0.dot(n1), sharper);
+        if (sharper) return false;
+        if (w0.faces == 0 && w1.faces == 0) continue;
+        // A walk that could not leave the edge (a border or a degenerate face right
+        // there) keeps its face's own direction.
+        Vec3 u0 = p0 - mid, u1 = p1 - mid;
+        u0 = u0.squaredNorm() > 1e-6 * dist * dist ? Vec3(u0.normalized()) : in0;
+        u1 = u1.squaredNorm() > 1e-6 * dist * dist ? Vec3(u1.normalized()) : in1;
+        if (u0.dot(u1) <= cosLimitChord) return false;
+    }
+    return true;
 }
 
 void Extractor::computeCornerValues() {
@@ -363,8 +481,23 @@ void Extractor::buildChains() {
         if (used[size_t(i)]) continue;
         Chain c;
         traceChain(i, c, used);
+        if (c.closed && c.group == 0 && tooSmallToDraw(c)) {
+            ++m_smallLoopsDropped;
+            continue;
+        }
         m_chains.push_back(std::move(c));
     }
+}
+
+/// A closed silhouette loop whose picture is less than half the feature scale across
+/// is a dot, not an outline: the outline of a bump of a scan's noise seen edge-on.
+/// (Thin loops are not dropped: a fold seen edge-on projects its silhouette loop to a
+/// thin out-and-back curve, half of it hidden, like the base of the bunny's ear.)
+bool Extractor::tooSmallToDraw(const Chain &chain) const {
+    if (!m_pictureScale || chain.points.empty()) return false;
+    Eigen::AlignedBox2d box;
+    for (const Vec3 &p : chain.points) box.extend(m_camera.project(p));
+    return box.diagonal().norm() < 0.5 * m_style.featureScalePx;
 }
 
 double Extractor::pixelWorldSize(double depth) const {
@@ -462,7 +595,11 @@ void Extractor::emitRun(const std::vector<Sample> &samples, int begin, int end, 
     std::vector<double> arc(n, 0.0);
     for (size_t i = 1; i < n; ++i) arc[i] = arc[i - 1] + (st.points[i] - st.points[i - 1]).norm();
     double length = arc.back();
-    if (length < kMinRunPx) return;
+    // A visible piece of silhouette shorter than half the feature scale is a dot (what
+    // the hidden rest of a noise bump's outline leaves), not a line.
+    const double minLength =
+        group == 0 && !hidden && m_pictureScale ? std::max(kMinRunPx, 0.5 * m_style.featureScalePx) : kMinRunPx;
+    if (length < minLength) return;
     double base = group == 0 ? m_style.widthPx : m_style.creaseWidthPx;
     double taper = std::min(kTaperPx, 0.25 * length);
     st.widths.resize(n);
@@ -680,6 +817,9 @@ StrokeList Extractor::run(ContourReport *report) {
             else ++rep.nBorderSegments;
         }
         rep.nChains = int(m_chains.size());
+        rep.nSmallLoopsDropped = m_smallLoopsDropped;
+        rep.nCreasesBelowScale = m_creasesBelowScale;
+        rep.judgedAtPictureScale = m_pictureScale;
     }
     if (report) *report = rep;
     return list;

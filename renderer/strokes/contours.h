@@ -29,6 +29,14 @@ struct ContourReport {
     int nCreaseSegments = 0;     ///< crease edges (dihedral angle below the style's threshold)
     int nBorderSegments = 0;     ///< boundary edges (counted only when borders are drawn)
     int nChains = 0;             ///< chains built from the segments, before visibility splitting
+    /// Edges whose two faces bend past the crease angle while the surface does not at
+    /// the picture's scale (ContourStyle::featureScalePx): creases of a scan's noise.
+    int nCreasesBelowScale = 0;
+    /// Whether the outlines were judged at the picture's scale: such creases were more
+    /// than 5 % of the mesh's edges and more than 3/4 of the edges bending past the
+    /// crease angle (a scan), so they are not drawn, nor silhouette dots.
+    bool judgedAtPictureScale = false;
+    int nSmallLoopsDropped = 0;  ///< closed silhouette loops under half ContourStyle::featureScalePx across, not drawn
     int nSilhouetteStrokes = 0;  ///< visible silhouette strokes emitted
     int nCreaseStrokes = 0;      ///< visible crease or border strokes emitted
     int nHiddenStrokes = 0;      ///< HiddenContour strokes emitted (0 unless style.hidden)
@@ -54,7 +62,8 @@ constexpr uint32_t kContourIdBase = 0x40000000u;
 /// \param style    widths (silhouettes widthPx, creases and borders creaseWidthPx,
 ///                 both tapered over a few pixels at open chain ends), the crease
 ///                 threshold in degrees (an edge whose dihedral angle, 180° = flat, is
-///                 below it is a crease), and whether borders and hidden parts are drawn.
+///                 below it is a crease; on a scan also at featureScalePx, see
+///                 ContourStyle), and whether borders and hidden parts are drawn.
 /// \param report   optional counts and lengths (may be null).
 /// \return strokes of kind Contour (and HiddenContour when style.hidden), family −1,
 ///   ids kContourIdBase + index. Points are spaced about 1 px; a closed visible loop

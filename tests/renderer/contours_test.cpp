@@ -201,6 +201,115 @@ TEST(Contours, CubeShowsItsNineVisibleEdgesAndHidesTheOtherThree) {
     }
 }
 
+/// `mesh` as a scanner and its triangulation leave it: every fifth triangle split in
+/// three at a point a twentieth of its height from one edge (a needle beside it), then
+/// every vertex moved along its normal by noise of about `amount` times the mean edge
+/// length (a sum of four hashed uniforms: the same on every platform).
+Mesh scanLike(const Mesh &mesh, double amount) {
+    std::vector<Vec3> p = mesh.positions();
+    std::vector<rosy::field::Face> faces;
+    for (int f = 0; f < mesh.nFaces(); ++f) {
+        const rosy::field::Face &t = mesh.face(f);
+        if (f % 5 != 0) {
+            faces.push_back(t);
+            continue;
+        }
+        const Vec3 mid = 0.5 * (p[size_t(t[0])] + p[size_t(t[1])]);
+        const int v = int(p.size());
+        p.push_back(mid + 0.05 * (p[size_t(t[2])] - mid));
+        faces.push_back({t[0], t[1], v});
+        faces.push_back({t[1], t[2], v});
+        faces.push_back({t[2], t[0], v});
+    }
+    const Mesh split = Mesh::fromTriangles(p, faces);
+    double edge = 0.0;
+    for (int e = 0; e < split.nEdges(); ++e) {
+        int h = split.edgeHalfedge(e);
+        edge += (split.position(split.head(h)) - split.position(split.tail(h))).norm();
+    }
+    edge /= split.nEdges();
+    std::vector<Vec3> normal(p.size(), Vec3::Zero());
+    for (int f = 0; f < split.nFaces(); ++f)
+        for (int k = 0; k < 3; ++k) normal[size_t(split.face(f)[k])] += split.faceNormals()[size_t(f)];
+    uint64_t state = 0x9e3779b97f4a7c15ull;
+    auto uniform = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return double(state >> 11) / double(1ull << 53) - 0.5;
+    };
+    for (size_t v = 0; v < p.size(); ++v) {
+        const double g = (uniform() + uniform() + uniform() + uniform()) * std::sqrt(3.0); // variance 1
+        p[v] += amount * edge * g * normal[v].normalized();
+    }
+    return Mesh::fromTriangles(std::move(p), std::move(faces));
+}
+
+TEST(Contours, ScanNoiseDrawsNoCreasesWhileFoldsStay) {
+    // A sphere of about 110k faces, 2–4 px per edge at 512², with a scan's needles and
+    // noise of a twentieth of an edge (a fifth of a pixel): a crease test on each edge's
+    // two faces finds creases all over it, and dots; so many edges bend only below the
+    // picture's scale that the outlines are judged at it (the default), and there are
+    // neither.
+    const Mesh sphere = scanLike(rosy::field::makeIcosphere(6, 1.0), 0.05);
+    const Camera cam = Camera::perspective(Vec3(0, 0, 3.2), Vec3::Zero(), Vec3(0, 1, 0), 45.0, 512, 512);
+    rosy::styles::ContourStyle faces = testStyle();
+    faces.featureScalePx = 0.0;
+    const Contours raw = extract(sphere, cam, faces);
+    const Contours judged = extract(sphere, cam, testStyle());
+    EXPECT_FALSE(raw.report.judgedAtPictureScale);
+    EXPECT_TRUE(judged.report.judgedAtPictureScale);
+    EXPECT_GT(judged.report.nCreasesBelowScale, sphere.nEdges() / 20);
+    EXPECT_GT(raw.report.nCreaseSegments, 100);
+    EXPECT_GT(raw.report.nCreaseStrokes, 20);
+    EXPECT_LE(judged.report.nCreaseSegments, raw.report.nCreaseSegments / 50);
+    EXPECT_LE(judged.report.nCreaseStrokes, 2);
+    // The outlines of the noise's bumps seen edge-on, dots under 4 px, are gone
+    // (silhouettes are the strokes of width 2 in testStyle(); the inset toward the
+    // outline moves their points by a fraction of a pixel after their length is judged).
+    auto dots = [](const StrokeList &list) {
+        return int(std::count_if(list.strokes.begin(), list.strokes.end(), [](const Stroke &st) {
+            return strokeLength(st) < 3.5 && *std::max_element(st.widths.begin(), st.widths.end()) > 1.5f;
+        }));
+    };
+    EXPECT_GT(dots(raw.strokes), 20);
+    EXPECT_EQ(dots(judged.strokes), 0);
+    EXPECT_GT(judged.report.nSmallLoopsDropped, 20);
+    // What is drawn is the outline: every point near the sphere's projected circle,
+    // of radius f tan(asin(1 / 3.2)) for the focal length f in pixels.
+    const double r = 256.0 / std::tan(0.5 * 45.0 * kPi / 180.0) / std::sqrt(3.2 * 3.2 - 1.0);
+    for (const Stroke &st : judged.strokes.strokes)
+        for (const Vec2 &q : st.points) EXPECT_NEAR((q - Vec2(256, 256)).norm(), r, 6.0);
+
+    // A cube with its faces cut into 64 × 64 grids, made scan-like the same way: its
+    // nine visible edges are still drawn, whole, and nothing else (not the noise beside
+    // them, whose longer walks cross the real fold). Clean, it is not judged so at all.
+    const Mesh cube = scanLike(rosy::field::makeCube(64), 0.05);
+    const Camera cubeCam = Camera::perspective(Vec3(3.2, 2.4, 4.0), Vec3::Zero(), Vec3(0, 1, 0), 40.0, 512, 512);
+    const Contours rawCube = extract(cube, cubeCam, faces);
+    const Contours judgedCube = extract(cube, cubeCam, testStyle());
+    EXPECT_TRUE(judgedCube.report.judgedAtPictureScale);
+    const Contours cleanCube = extract(rosy::field::makeCube(64), cubeCam, testStyle());
+    EXPECT_FALSE(cleanCube.report.judgedAtPictureScale);
+    EXPECT_EQ(cleanCube.report.nCreasesBelowScale, 0);
+    EXPECT_EQ(cleanCube.report.nCreaseSegments, 6 * 64);
+    EXPECT_GT(rawCube.report.nCreaseSegments, judgedCube.report.nCreaseSegments + 100);
+    std::vector<Edge3> visible, hidden;
+    cubeEdges(Vec3(-1, -1, -1), visible, hidden);
+    for (const Edge3 &e : visible) {
+        for (int i = 1; i < 40; ++i) {
+            Vec2 q = cubeCam.project(e.first + (i / 40.0) * (e.second - e.first));
+            EXPECT_LT(distanceToStrokes(q, judgedCube.strokes, StrokeKind::Contour), 1.5) << "edge point " << q.transpose();
+        }
+    }
+    for (const Stroke &st : judgedCube.strokes.strokes) {
+        for (const Vec2 &q : st.points) {
+            double best = 1e30;
+            for (const Edge3 &e : visible)
+                best = std::min(best, distanceToSegment(q, cubeCam.project(e.first), cubeCam.project(e.second)));
+            EXPECT_LT(best, 2.0) << "stroke point off every visible edge: " << q.transpose();
+        }
+    }
+}
+
 TEST(Contours, GridBorderIsItsFourSides) {
     const int n = 8;
     Mesh mesh = rosy::field::makeGrid(n);

@@ -444,9 +444,9 @@ TEST(ParseScene, BadPresetFileErrorsPointIntoThePresetFile) {
 TEST(StyleKeys, CoverEveryDocumentedGroup) {
     std::vector<std::string> keys = styleKeys();
     // Style has 5 top-level values, HatchStyle 14 settable fields (the lines they follow,
-    // the quad edge and 12 of the drawing), ContourStyle 5, PageStyle 8 (style.h: size,
+    // the quad edge and 12 of the drawing), ContourStyle 6, PageStyle 8 (style.h: size,
     // margin, pen width and the print mode's px_mm and three lengths in mm).
-    EXPECT_EQ(keys.size(), 5u + 14u + 5u + 8u);
+    EXPECT_EQ(keys.size(), 5u + 14u + 6u + 8u);
     std::string readme;
     {
         std::ifstream in(std::string(ROSY_SOURCE_DIR) + "/scenes/README.md");
