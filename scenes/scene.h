@@ -251,10 +251,14 @@ long long primitiveFaceCount(const MeshDesc &mesh);
 /// peak RSS of bunny00 at 1024², 2048² and 4096²): per pixel 130 bytes of buffers
 /// (G-buffer, screen field, ink layers) plus the larger of the hatching's strokes,
 /// 160 / hatch.min_spacing_px bytes (427 bytes per pixel measured at the densest
-/// 0.5 px), and an EXR output's channels, 100 bytes; per face 600 bytes (frames,
-/// field, solver, ray-tracing structure). Conservative: the defaults measure 112
-/// bytes per pixel (PNG) and 206 (EXR) against 180 and 230 estimated.
+/// 0.5 px), and an EXR output's channels, 100 bytes; per face 900 bytes (frames,
+/// field, solver, ray-tracing structure, contours: peak RSS at 1024² of a 270k-face
+/// scan 302 MB, of the CGAL elephant subdivided to 5.7 M faces 4.89 GB and to 8.0 M
+/// faces with noise 6.50 GB, about 820 bytes a face at that size). Conservative: the
+/// defaults measure 112 bytes per pixel (PNG) and 206 (EXR) against 180 and 230 estimated.
 uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput);
+/// The same from the numbers it depends on.
+uint64_t renderMemoryEstimate(double pixels, double faces, double minSpacingPx, bool exrOutput);
 
 /// Names the primitives a scene may use, for messages and documentation.
 std::vector<std::string> primitiveNames();

@@ -123,12 +123,16 @@ long long primitiveFaceCount(const MeshDesc &m) {
     return 0;
 }
 
-uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput) {
-    const double pixels = double(scene.camera.width()) * double(scene.camera.height());
-    const double spacing = std::max(scene.style.hatch.minSpacingPx, 0.5);
+uint64_t renderMemoryEstimate(double pixels, double faces, double minSpacingPx, bool exrOutput) {
+    const double spacing = std::max(minSpacingPx, 0.5);
     const double perPixel = 130.0 + std::max(160.0 / spacing, exrOutput ? 100.0 : 0.0);
-    const double perFace = 600.0;
-    return uint64_t(pixels * perPixel + double(scene.mesh.nFaces()) * perFace);
+    const double perFace = 900.0;
+    return uint64_t(pixels * perPixel + faces * perFace);
+}
+
+uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput) {
+    return renderMemoryEstimate(double(scene.camera.width()) * double(scene.camera.height()),
+                                double(scene.mesh.nFaces()), scene.style.hatch.minSpacingPx, exrOutput);
 }
 
 Scene buildScene(const SceneDesc &desc, const field::LoadOptions &meshOptions) {

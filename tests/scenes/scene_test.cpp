@@ -776,3 +776,18 @@ TEST(ParseScene, AmbientOcclusionIsOffByDefaultAndItsRadiusFollowsTheMeshSize) {
     EXPECT_FALSE(parseScene("mesh: {primitive: icosphere}\nambient_occlusion: false\n", scenePath())
                      .ambientOcclusion.enabled);
 }
+
+// The memory check's estimate (README, "Limits") holds what whole renders at 1024² of
+// large meshes were measured to peak at (`/usr/bin/time -v rosyhatch render`, maximum
+// resident set size, 2026-12-05): a 270k-face scan 302 MB, the CGAL elephant
+// subdivided to 5,691,392 faces 4.89 GB, and to 7,963,762 faces with noise and needles
+// 6.50 GB. At 600 bytes a face (until then) the two large ones were estimated at 3.7
+// and 5.0 GB, and a machine with 6 GB left would have started the second and run out.
+TEST(RenderMemory, EstimateHoldsTheMeasuredPeaksOfLargeMeshes) {
+    const double pixels = 1024.0 * 1024.0, spacing = 3.2; // PNG renders with the default style
+    EXPECT_GE(rosy::scenes::renderMemoryEstimate(pixels, 270464, spacing, false), 302264ull * 1024);
+    EXPECT_GE(rosy::scenes::renderMemoryEstimate(pixels, 5691392, spacing, false), 4887588ull * 1024);
+    EXPECT_GE(rosy::scenes::renderMemoryEstimate(pixels, 7963762, spacing, false), 6496920ull * 1024);
+    // and does not refuse what fits twice over
+    EXPECT_LE(rosy::scenes::renderMemoryEstimate(pixels, 7963762, spacing, false), 2 * 6496920ull * 1024);
+}
