@@ -68,12 +68,20 @@ double strokeLength(const Stroke &s) {
     return len;
 }
 
+using Edge3 = std::pair<Vec3, Vec3>;
+
+/// Distance in pixels from raster point p to the nearest of `edges` as `camera` sees them.
+double distanceToEdges(const Vec2 &p, const std::vector<Edge3> &edges, const Camera &camera) {
+    double best = 1e30;
+    for (const Edge3 &e : edges) best = std::min(best, distanceToSegment(p, camera.project(e.first), camera.project(e.second)));
+    return best;
+}
+
 int countKind(const StrokeList &list, StrokeKind kind) {
     return int(std::count_if(list.strokes.begin(), list.strokes.end(),
                              [&](const Stroke &s) { return s.kind == kind; }));
 }
 
-using Edge3 = std::pair<Vec3, Vec3>;
 
 /// The 12 edges of the cube [-1, 1]^3, split into those touching `hiddenCorner` and the rest.
 void cubeEdges(const Vec3 &hiddenCorner, std::vector<Edge3> &visible, std::vector<Edge3> &hidden) {
@@ -172,12 +180,8 @@ TEST(Contours, CubeShowsItsNineVisibleEdgesAndHidesTheOtherThree) {
     EXPECT_LE(c.report.nCreaseStrokes, 3);
 
     for (const Stroke &s : c.strokes.strokes) {
-        for (const Vec2 &p : s.points) {
-            double best = 1e30;
-            for (const Edge3 &e : visible)
-                best = std::min(best, distanceToSegment(p, cam.project(e.first), cam.project(e.second)));
-            EXPECT_LT(best, 0.75) << "stroke point off every visible edge: " << p.transpose();
-        }
+        for (const Vec2 &p : s.points)
+            EXPECT_LT(distanceToEdges(p, visible, cam), 0.75) << "stroke point off every visible edge: " << p.transpose();
     }
     for (const Edge3 &e : visible) {
         for (int i = 1; i < 20; ++i) {
@@ -300,14 +304,9 @@ TEST(Contours, ScanNoiseDrawsNoCreasesWhileFoldsStay) {
             EXPECT_LT(distanceToStrokes(q, judgedCube.strokes, StrokeKind::Contour), 1.5) << "edge point " << q.transpose();
         }
     }
-    for (const Stroke &st : judgedCube.strokes.strokes) {
-        for (const Vec2 &q : st.points) {
-            double best = 1e30;
-            for (const Edge3 &e : visible)
-                best = std::min(best, distanceToSegment(q, cubeCam.project(e.first), cubeCam.project(e.second)));
-            EXPECT_LT(best, 2.0) << "stroke point off every visible edge: " << q.transpose();
-        }
-    }
+    for (const Stroke &st : judgedCube.strokes.strokes)
+        for (const Vec2 &q : st.points)
+            EXPECT_LT(distanceToEdges(q, visible, cubeCam), 2.0) << "stroke point off every visible edge: " << q.transpose();
 }
 
 TEST(Contours, GridBorderIsItsFourSides) {
