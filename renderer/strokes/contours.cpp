@@ -149,8 +149,12 @@ void Extractor::computeFaceNormalsAndCreases() {
         if (n0.dot(n1) >= cosLimit) return;
         m_crease[size_t(e)] = judge && !creaseAtPictureScale(h, std::cos(threshold)) ? 2 : 1;
     });
-    m_creasesBelowScale = int(std::count(m_crease.begin(), m_crease.end(), uint8_t(2)));
-    const int64_t bent = nE - int64_t(std::count(m_crease.begin(), m_crease.end(), uint8_t(0)));
+    int64_t bent = 0;
+    m_creasesBelowScale = 0;
+    for (uint8_t c : m_crease) {
+        bent += c != 0;
+        m_creasesBelowScale += c == 2;
+    }
     // The outlines are judged at the picture's scale only where such creases are both
     // common and most of the creases there are: on a scan, whose noise and needles make
     // them everywhere. On a modelled mesh they are the few narrow real details (a
@@ -223,11 +227,12 @@ bool Extractor::creaseAtPictureScale(int h, double cosLimitChord) const {
     const Vec3 mid = 0.5 * (a + b);
     const double s = m_style.featureScalePx * pixelWorldSize(std::max(m_camera.depth(mid), 1e-12));
     const Vec3 in0 = n0.cross(b - a).normalized(), in1 = n1.cross(a - b).normalized();
+    const double ownDot = n0.dot(n1);
     SurfaceWalk w0{h, mid, in0}, w1{t, mid, in1};
     bool sharper = false;
     for (double dist : {0.25 * s, s}) {
-        const Vec3 p0 = advance(w0, dist, 0.5 * s, n0.dot(n1), sharper);
-        const Vec3 p1 = advance(w1, dist, 0.5 * s, n0.dot(n1), sharper);
+        const Vec3 p0 = advance(w0, dist, 0.5 * s, ownDot, sharper);
+        const Vec3 p1 = advance(w1, dist, 0.5 * s, ownDot, sharper);
         if (sharper) return false;
         if (w0.faces == 0 && w1.faces == 0) continue;
         // A walk that could not leave the edge (a border or a degenerate face right
