@@ -407,6 +407,13 @@ void runField(const FieldOptions &opt) {
         field::writeAnalysisJson(json, stats, report, spec.nSym);
         json.key("field").beginObject().field("symmetry", spec.nSym).field("source", field::toString(spec.source));
         json.field("smoothing_length", spec.smoothingLength).endObject();
+        if (built.field.smoothedSurface) {
+            // field/scan_noise.h: the field on the surface itself was its noise.
+            json.key("scan_noise").beginObject();
+            json.field("singularities_on_surface", double(built.field.noisySingularities));
+            json.field("density", built.field.noisyDensity);
+            json.field("smoothing_rounds", built.field.smoothedSurface->rounds).endObject();
+        }
         writeEditsJson(json, applied);
         if (opt.separatrices) field::writeSeparatricesJson(json, separatrices);
         if (result.eigenSolve) {

@@ -78,7 +78,15 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         PipelineOptions baseOptions = options;
         baseOptions.applyEdits = false;
         const SceneFieldResult built = buildSceneField(loaded, desc.field, baseOptions);
-        const field::RosyField &base = built.field.field;
+        // On a noisy scan the variants are made on the smoothed copy the field was
+        // computed on (field/scan_noise.h) and carried back like the field itself.
+        const field::TangentFrames &vf = built.fieldFrames(frames);
+        const field::RosyField &base = built.fieldOnFieldFrames();
+        auto carriedBack = [&](ComparePanel &panel) {
+            if (!built.smoothedSurface) return;
+            panel.field = field::carryField(vf, panel.field, frames);
+            panel.singularities = field::placedOn(std::move(panel.singularities), scene.mesh);
+        };
         const std::string name = std::to_string(fieldSpec.nSym) + "-RoSy";
         const size_t baseCount = built.singularities.singularities.size();
         // The smoothed field first: an automatic edit aims at its singularity count.
@@ -86,25 +94,26 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         if (std::find(spec.variants.begin(), spec.variants.end(), Variant::Smoothed) != spec.variants.end()) {
             smoothed.emplace();
             smoothed->field = base;
-            field::relaxationSmooth(frames, smoothed->field, spec.smoothIterations, spec.smoothStrength, {},
+            field::relaxationSmooth(vf, smoothed->field, spec.smoothIterations, spec.smoothStrength, {},
                                     fieldSpec.weights);
-            smoothed->singularities = field::findSingularities(frames, smoothed->field);
+            smoothed->singularities = field::findSingularities(vf, smoothed->field);
         }
         for (size_t k = 0; k < spec.variants.size(); ++k) {
             const std::string prefix = std::string("(") + letters[k] + ") " + name;
             ComparePanel panel;
             std::string what;
             if (spec.variants[k] == Variant::Original) {
-                panel.field = base;
+                panel.field = built.field.field;
                 panel.singularities = built.singularities;
                 what = "";
             } else if (spec.variants[k] == Variant::Smoothed) {
                 panel = *smoothed;
+                carriedBack(panel);
                 what = ", smoothed " + std::to_string(spec.smoothIterations) + "x";
             } else {
                 panel.field = base;
                 if (!desc.field.edits.empty()) {
-                    field::applyFieldEdits(frames, panel.field, desc.field.edits);
+                    field::applyFieldEdits(vf, panel.field, desc.field.edits);
                     what = ", " + std::to_string(desc.field.edits.size()) + " edits";
                 } else {
                     // No edits in the scene: cancel the closest pairs, as many as smoothing
@@ -117,10 +126,11 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                         target = std::min(goal, baseCount);
                         maxPairs = int(baseCount);
                     }
-                    const int pairs = field::cancelClosestPairs(frames, panel.field, target, maxPairs);
+                    const int pairs = field::cancelClosestPairs(vf, panel.field, target, maxPairs);
                     what = ", " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") + " cancelled";
                 }
-                panel.singularities = field::findSingularities(frames, panel.field);
+                panel.singularities = field::findSingularities(vf, panel.field);
+                carriedBack(panel);
             }
             panel.label = prefix + what + ": " + countText(panel.singularities.singularities.size());
             panels.push_back(std::move(panel));

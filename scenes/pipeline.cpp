@@ -82,26 +82,71 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     out.spec = fieldDesc.spec;
     if (options.nSym > 0) out.spec.nSym = options.nSym;
     const bool editing = options.applyEdits && !fieldDesc.edits.empty();
+    const field::TangentFrames &frames = *loaded.frames;
+    const field::Mesh &mesh = frames.mesh();
     std::optional<field::RosyField> unedited;
+    // Whether the field on the surface itself is scan noise (field/scan_noise.h),
+    // judged on the field before any edits: their ids name the singularities the
+    // user saw, which on a noisy scan are the smoothed copy's.
+    bool noisy = false;
     out.field = timed("field", timings, options, [&] {
-        field::FieldResult r = field::buildField(*loaded.frames, out.spec, options.fieldCache);
-        if (editing && options.keepUnedited) unedited = r.field;
-        if (editing) out.edits = field::applyFieldEdits(*loaded.frames, r.field, fieldDesc.edits);
+        field::FieldResult r = field::buildField(frames, out.spec, options.fieldCache);
+        if (editing) {
+            const size_t n = field::findSingularities(frames, r.field).singularities.size();
+            if ((noisy = field::fieldIsScanNoise(mesh, n))) {
+                out.noisySingularities = n;
+                return r;
+            }
+            if (options.keepUnedited) unedited = r.field;
+            out.edits = field::applyFieldEdits(frames, r.field, fieldDesc.edits);
+        }
         return r;
     });
-    const field::TangentFrames &frames = *loaded.frames;
-    out.singularities = timed("singularities", timings, options,
-                              [&] { return field::findSingularities(frames, out.field.field); });
+    if (!noisy) {
+        out.singularities = timed("singularities", timings, options,
+                                  [&] { return field::findSingularities(frames, out.field.field); });
+        noisy = !editing && field::fieldIsScanNoise(mesh, out.singularities.singularities.size());
+        if (noisy) out.noisySingularities = out.singularities.singularities.size();
+    }
+    if (noisy) {
+        // Everything again on the smoothed copy; the scene's frames get the field carried back.
+        out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
+        timed("scan_field", timings, options, [&] {
+            auto copy = std::make_shared<field::SmoothedSurface>(field::smoothAlongNormals(mesh));
+            const field::TangentFrames &smooth = *copy->frames;
+            field::FieldResult r = field::buildField(smooth, out.spec);
+            // Kept on the copy: its singularities are found there, below, then it is carried back.
+            if (editing && options.keepUnedited) unedited = r.field;
+            if (editing) out.edits = field::applyFieldEdits(smooth, r.field, fieldDesc.edits);
+            out.singularities = field::placedOn(field::findSingularities(smooth, r.field), mesh);
+            out.smoothedField = r.field;
+            r.field = field::carryField(smooth, r.field, frames);
+            out.field = std::move(r);
+            out.smoothedSurface = std::move(copy);
+            return 0;
+        });
+        warn(mesh.name(), "scan-noise",
+             fmt::format("the field on this surface has {} singularities, {:.0f} per ({:g} x diagonal)^2 of surface "
+                         "(clean meshes have a few): its noise, not its shape; the field was computed on a copy "
+                         "smoothed along the normals ({} Taubin rounds), which has {}, and carried back",
+                         out.noisySingularities, out.noisyDensity, field::kScanNoiseScale,
+                         out.smoothedSurface->rounds, out.singularities.singularities.size()));
+    }
+    const field::TangentFrames &fieldFrames = out.fieldFrames(frames);
     if (options.separatrices)
         out.separatrices = timed("separatrices", timings, options, [&] {
-            return field::traceSeparatrices(frames, out.field.field, out.singularities.singularities);
+            return field::traceSeparatrices(fieldFrames, out.fieldOnFieldFrames(), out.singularities.singularities);
         });
     if (unedited)
         out.unedited = timed("unedited", timings, options, [&] {
             SceneFieldResult::Unedited u{std::move(*unedited), {}, {}};
-            u.singularities = field::findSingularities(frames, u.field);
+            u.singularities = field::findSingularities(fieldFrames, u.field);
             if (options.separatrices)
-                u.separatrices = field::traceSeparatrices(frames, u.field, u.singularities.singularities);
+                u.separatrices = field::traceSeparatrices(fieldFrames, u.field, u.singularities.singularities);
+            if (out.smoothedSurface) {
+                u.singularities = field::placedOn(std::move(u.singularities), mesh);
+                u.field = field::carryField(fieldFrames, u.field, frames);
+            }
             return u;
         });
     return out;
@@ -316,7 +361,8 @@ RenderResult renderScene(const SceneDesc &sceneDesc, const PipelineOptions &opti
     // picture.kind: field
     if (desc.picture.separatrices.value)
         out.separatrices = timed("separatrices", &out.timingsMs, options, [&] {
-            return field::traceSeparatrices(frames, rosyField, singularities.singularities);
+            return field::traceSeparatrices(out.field.fieldFrames(frames), out.field.fieldOnFieldFrames(),
+                                            singularities.singularities);
         });
     renderer::FieldPictureOptions pictureOptions;
     // Without a `lights` key the picture keeps its own light rather than the

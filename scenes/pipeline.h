@@ -17,6 +17,7 @@
 #include "field/edits.h"
 #include "field/field_builder.h"
 #include "field/frames.h"
+#include "field/scan_noise.h"
 #include "field/separatrices.h"
 #include "field/singularities.h"
 #include "renderer/view/embree_scene.h"
@@ -122,6 +123,25 @@ struct SceneFieldResult {
         std::vector<field::Separatrix> separatrices; ///< with PipelineOptions::separatrices
     };
     std::optional<Unedited> unedited;
+    /// Set when the field on the scene's own surface was judged to be scan noise
+    /// (field::fieldIsScanNoise()): the smoothed copy the field, edits, singularities
+    /// and separatrices were then computed on (field/scan_noise.h). `field.field` and
+    /// `unedited->field` are carried back to the scene's vertices; the singularities
+    /// keep their faces, placed on the scene's surface; separatrices lie on the copy.
+    std::shared_ptr<const field::SmoothedSurface> smoothedSurface;
+    /// With smoothedSurface: how many singularities the field on the scene's own
+    /// surface had, and their density (field::singularityDensity()).
+    size_t noisySingularities = 0;
+    double noisyDensity = 0;
+    /// With smoothedSurface: field.field as it is on the copy (before being carried back).
+    field::RosyField smoothedField;
+    /// The frames the singularities and separatrices belong to: the smoothed copy's
+    /// when there is one, else `own` (the scene's).
+    const field::TangentFrames &fieldFrames(const field::TangentFrames &own) const {
+        return smoothedSurface ? *smoothedSurface->frames : own;
+    }
+    /// field.field on fieldFrames(): smoothedField when there is a copy.
+    const field::RosyField &fieldOnFieldFrames() const { return smoothedSurface ? smoothedField : field.field; }
 };
 
 /// The field stage of a scene on its own: the loaded scene and its field.

@@ -11,6 +11,7 @@
 #include "field/singularities.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
+#include "../field/scan_like.h"
 
 #include <gtest/gtest.h>
 
@@ -393,4 +394,50 @@ TEST(QuadMeshHatching, NeedsACrossAmongTheFieldsMembers) {
         EXPECT_NE(std::string(e.what()).find("hatch.lines: quad_mesh"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("N = 3"), std::string::npos) << e.what();
     }
+}
+
+TEST(BuildSceneField, NoisyScanGetsTheFieldOfASmoothedCopyCarriedBack) {
+    // field/scan_noise.h through the pipeline: an ellipsoid made scan-like (needles,
+    // noise of half an edge along the normals) after loading, against the same
+    // ellipsoid with needles and no noise. Its shape's field has a few singularities.
+    const char *kEllipsoid = R"(
+mesh: {primitive: ellipsoid, subdivisions: 6, a: 1.0, b: 0.7, c: 0.5}
+camera: {auto: true, resolution: [96, 64]}
+)";
+    const scenes::SceneDesc desc = scenes::parseScene(kEllipsoid, kScenePath);
+    auto run = [&](double noise) {
+        scenes::PipelineOptions options;
+        options.separatrices = true;
+        options.afterLoad = [noise](scenes::Scene &scene) { scene.mesh = test::makeScanLike(scene.mesh, noise); };
+        return scenes::buildSceneField(desc, options);
+    };
+    WarningCapture warnings;
+    const scenes::SceneField clean = run(0.0);
+    EXPECT_FALSE(clean.field.smoothedSurface);
+    EXPECT_FALSE(warnings.has("scan-noise"));
+    const size_t cleanCount = clean.field.singularities.singularities.size();
+    EXPECT_LE(cleanCount, 16u);
+
+    const scenes::SceneField scan = run(0.5);
+    ASSERT_TRUE(scan.field.smoothedSurface);
+    EXPECT_TRUE(warnings.has("scan-noise"));
+    const std::vector<std::string> stages = stageNames(scan.timingsMs);
+    EXPECT_NE(std::find(stages.begin(), stages.end(), "scan_field"), stages.end());
+    EXPECT_GT(scan.field.noisySingularities, 100 * cleanCount);
+    EXPECT_GT(scan.field.noisyDensity, field::kScanNoiseDensity);
+    // The field drawn is on the scan's own vertices, with the copy's singularities.
+    const field::Mesh &mesh = scan.loaded.scene->mesh;
+    EXPECT_EQ(scan.field.field.field.u.size(), size_t(mesh.nVertices()));
+    EXPECT_EQ(&scan.field.fieldFrames(*scan.loaded.frames), scan.field.smoothedSurface->frames.get());
+    EXPECT_LE(scan.field.singularities.singularities.size(), 2 * cleanCount + 4);
+    EXPECT_EQ(scan.field.singularities.indexNumeratorSum, 4 * 2); // N χ
+    for (const field::Singularity &s : scan.field.singularities.singularities) {
+        const field::Face &t = mesh.face(s.face);
+        const field::Vec3 onScan = s.barycentric[0] * mesh.position(t[0]) + s.barycentric[1] * mesh.position(t[1]) +
+                                   s.barycentric[2] * mesh.position(t[2]);
+        EXPECT_LT((s.position - onScan).norm(), 1e-12);
+    }
+    // Separatrices of the copy's field: a few per singularity, not the noise's thousands.
+    EXPECT_GT(scan.field.separatrices.size(), 0u);
+    EXPECT_LE(scan.field.separatrices.size(), 8 * scan.field.singularities.singularities.size());
 }

@@ -1,0 +1,53 @@
+#pragma once
+/// \file scan_like.h
+/// Scan-like test meshes (field/scan_noise.h's tests, the pipeline's): needle
+/// triangles beside normal ones and noise along the normals, made here from a clean
+/// mesh with a hash of the vertex id (no library generator, the same on every machine).
+
+#include "field/mesh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rosy::test {
+
+/// A uniform number in [-1, 1) from (v, salt).
+inline double hashedUniform(uint64_t v, uint64_t salt) {
+    uint64_t x = v * 0x9E3779B97F4A7C15ull + salt;
+    x ^= x >> 30;
+    x *= 0xBF58476D1CE4E5B9ull;
+    x ^= x >> 27;
+    x *= 0x94D049BB133111EBull;
+    x ^= x >> 31;
+    return double(x >> 11) / double(1ull << 52) - 1.0;
+}
+
+/// `mesh` with every third triangle split 1-to-3 at a point 2 % of the way from its
+/// first edge's midpoint to the opposite corner (needles, as tools/make_scan_mesh.py's
+/// slivers), then every vertex moved along its normal by uniform noise of `noise`
+/// times the mean edge length.
+inline field::Mesh makeScanLike(const field::Mesh &mesh, double noise) {
+    using field::Vec3;
+    std::vector<Vec3> p = mesh.positions();
+    std::vector<field::Face> faces;
+    for (int f = 0; f < mesh.nFaces(); ++f) {
+        const field::Face &t = mesh.face(f);
+        if (f % 3 != 0) {
+            faces.push_back(t);
+            continue;
+        }
+        const Vec3 mid = 0.5 * (p[size_t(t[0])] + p[size_t(t[1])]);
+        const int c = int(p.size());
+        p.push_back(mid + 0.02 * (p[size_t(t[2])] - mid));
+        faces.push_back({t[0], t[1], c});
+        faces.push_back({t[1], t[2], c});
+        faces.push_back({t[2], t[0], c});
+    }
+    const field::Mesh split = field::Mesh::fromTriangles(p, faces, mesh.name());
+    const double e = split.meanEdgeLength();
+    for (int v = 0; v < split.nVertices(); ++v)
+        p[size_t(v)] += noise * e * hashedUniform(uint64_t(v), 17) * split.vertexNormal(v);
+    return field::Mesh::fromTriangles(p, faces, mesh.name());
+}
+
+} // namespace rosy::test
