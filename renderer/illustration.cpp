@@ -35,9 +35,42 @@ namespace {
 template <typename F> auto isolated(F &&f) { return tbb::this_task_arena::isolate(std::forward<F>(f)); }
 
 /// The stages' order in Illustration::timingsMs, whichever ran first.
-constexpr const char *kStageOrder[] = {"gbuffer", "tone", "remesh", "screen_field", "hatching", "contours", "raster"};
+constexpr const char *kStageOrder[] = {"gbuffer", "tone", "scan_tone", "remesh", "screen_field", "hatching", "contours", "raster"};
 
 } // namespace
+
+namespace {
+
+/// Tone → target ink density through the style's tone curve (Illustration::targetDensity).
+void computeTargetDensity(Illustration &out, const IllustrationInput &in) {
+    const std::vector<double> tone = shadeLambert(out.gbuffer, *in.scene, *in.mesh, *in.camera, in.lights, in.shading);
+    assignLarge(out.targetDensity, out.gbuffer.nPixels(), 0.0f);
+    const double gamma = in.style.hatch.toneGamma;
+    // The curve saturates at the darkest coverage the style can draw: asking for
+    // more would leave the whole shadow side short of its target by construction.
+    const double darkest = maxHatchDensity(in.style.hatch);
+    parallelFor(0, int64_t(tone.size()), [&](int64_t i) {
+        if (out.gbuffer.faceId[size_t(i)] >= 0)
+            out.targetDensity[size_t(i)] =
+                float(std::min(darkest, std::pow(std::clamp(1.0 - tone[size_t(i)], 0.0, 1.0), gamma)));
+    }, 16384);
+}
+
+} // namespace
+
+void reshadeWithNormalsOf(Illustration &begun, const IllustrationInput &in, const field::Mesh &normalsOf) {
+    ROSY_CHECK(in.mesh && in.scene && in.camera);
+    ROSY_CHECK_EQ(normalsOf.nVertices(), in.mesh->nVertices());
+    ROSY_CHECK_EQ(normalsOf.nFaces(), in.mesh->nFaces());
+    const auto t0 = Clock::now();
+    auto normals = std::make_shared<std::vector<Vec3>>();
+    begun.gbuffer.cornerNormals = std::make_shared<const std::vector<Vec3>>(
+        creaseAwareCornerNormals(normalsOf, kCreaseAngleDeg * M_PI / 180.0, normals.get()));
+    begun.gbuffer.vertexNormals = std::move(normals);
+    computeTargetDensity(begun, in);
+    begun.timingsMs.emplace_back("scan_tone",
+                                 std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+}
 
 Illustration beginIllustration(const IllustrationInput &in) {
     ROSY_CHECK(in.mesh && in.scene && in.camera);
@@ -55,18 +88,7 @@ Illustration beginIllustration(const IllustrationInput &in) {
     out.gbuffer = renderGBuffer(*in.scene, *in.mesh, camera);
     lap("gbuffer");
 
-    // Tone → target ink density through the style's tone curve.
-    const std::vector<double> tone = shadeLambert(out.gbuffer, *in.scene, *in.mesh, camera, in.lights, in.shading);
-    assignLarge(out.targetDensity, out.gbuffer.nPixels(), 0.0f);
-    const double gamma = in.style.hatch.toneGamma;
-    // The curve saturates at the darkest coverage the style can draw: asking for
-    // more would leave the whole shadow side short of its target by construction.
-    const double darkest = maxHatchDensity(in.style.hatch);
-    parallelFor(0, int64_t(tone.size()), [&](int64_t i) {
-        if (out.gbuffer.faceId[size_t(i)] >= 0)
-            out.targetDensity[size_t(i)] =
-                float(std::min(darkest, std::pow(std::clamp(1.0 - tone[size_t(i)], 0.0, 1.0), gamma)));
-    }, 16384);
+    computeTargetDensity(out, in);
     lap("tone");
 
     // Contours need no field: traced here (or beside the hatching by

@@ -47,7 +47,9 @@ enum class HatchMeasure { None, Counts, All };
 
 struct IllustrationInput {
     const field::Mesh *mesh = nullptr;
-    const field::TangentFrames *frames = nullptr; ///< of *mesh
+    /// Of *mesh, or of a mesh with the same vertices and faces that `field` lives on (a
+    /// noisy scan's smoothed copy, field/scan_noise.h).
+    const field::TangentFrames *frames = nullptr;
     const field::RosyField *field = nullptr;      ///< the hatch field (any N; 2 and 4 are the usual)
     const field::SingularityReport *singularities = nullptr; ///< of *field (findSingularities)
     const RayScene *scene = nullptr;              ///< built from *mesh
@@ -122,6 +124,13 @@ Illustration renderIllustration(const IllustrationInput &input);
 /// and style; input.frames, field and singularities may still be null, so a
 /// caller can run this while the field is being built (scenes::renderScene()).
 Illustration beginIllustration(const IllustrationInput &input);
+
+/// A begun illustration's shading normals (GBuffer::vertexNormals, cornerNormals) and
+/// tone taken from `normalsOf` instead, a mesh with the same vertices and faces as
+/// input.mesh at other positions: on a noisy scan the smoothed copy its field came
+/// from (field/scan_noise.h), so that the tone, and the tangent planes the screen
+/// field projects into, are the shape's and not the noise's. Stage "scan_tone".
+void reshadeWithNormalsOf(Illustration &begun, const IllustrationInput &input, const field::Mesh &normalsOf);
 
 /// The rest on a begun illustration: screen field, hatching (in print mode traced
 /// kInkCalibrationTraces times, keeping the trace nearest the tone's ink) and its measurement,

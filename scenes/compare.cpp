@@ -53,10 +53,14 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
     const char letters[] = "abcdefgh";
 
     std::vector<ComparePanel> &panels = out.panels;
+    // On a noisy scan (field/scan_noise.h) the smoothed copy the fields came from: the
+    // panels' shared tone is then taken from it, as renderScene() does.
+    std::vector<std::shared_ptr<const field::SmoothedSurface>> scanCopies;
     auto buildFields = [&] {
         if (spec.variants.empty()) {
             // The fields are independent: built side by side, each into its own slot.
             panels.resize(spec.symmetries.size());
+            scanCopies.resize(spec.symmetries.size());
             parallelFor(0, int64_t(spec.symmetries.size()), [&](int64_t kk) {
                 const size_t k = size_t(kk);
                 PipelineOptions panelOptions = options;
@@ -65,7 +69,10 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                 // The scene's edits name singularities of its own field: only that N gets them.
                 panelOptions.applyEdits = spec.symmetries[k] == fieldSpec.nSym;
                 SceneFieldResult built = buildSceneField(loaded, desc.field, panelOptions);
+                scanCopies[k] = built.smoothedSurface;
                 ComparePanel &panel = panels[k];
+                panel.scanCopy = built.smoothedSurface;
+                panel.fieldOnCopy = std::move(built.smoothedField);
                 panel.field = std::move(built.field.field);
                 panel.singularities = std::move(built.singularities);
                 const std::string edited = built.edits.empty() ? "" : ", edited";
@@ -78,12 +85,15 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         PipelineOptions baseOptions = options;
         baseOptions.applyEdits = false;
         const SceneFieldResult built = buildSceneField(loaded, desc.field, baseOptions);
+        scanCopies.push_back(built.smoothedSurface);
         // On a noisy scan the variants are made on the smoothed copy the field was
         // computed on (field/scan_noise.h) and carried back like the field itself.
         const field::TangentFrames &vf = built.fieldFrames(frames);
         const field::RosyField &base = built.fieldOnFieldFrames();
         auto carriedBack = [&](ComparePanel &panel) {
             if (!built.smoothedSurface) return;
+            panel.scanCopy = built.smoothedSurface;
+            panel.fieldOnCopy = panel.field;
             panel.field = field::carryField(vf, panel.field, frames);
             panel.singularities = field::placedOn(std::move(panel.singularities), scene.mesh);
         };
@@ -105,6 +115,8 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
             if (spec.variants[k] == Variant::Original) {
                 panel.field = built.field.field;
                 panel.singularities = built.singularities;
+                panel.scanCopy = built.smoothedSurface;
+                panel.fieldOnCopy = built.smoothedField;
                 what = "";
             } else if (spec.variants[k] == Variant::Smoothed) {
                 panel = *smoothed;
@@ -143,6 +155,11 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         timed("fields", buildFields);
     } else {
         view = beginHatchingBeside(scene, [&] { timed("fields", buildFields); });
+        for (const auto &copy : scanCopies)
+            if (copy) {
+                shadeFromSmoothedCopy(view->begun, scene, *view->rays, *copy);
+                break;
+            }
         out.timingsMs.emplace_back("bvh", view->bvhMs);
         if (options.onStage) options.onStage("bvh", view->bvhMs);
     }
@@ -163,7 +180,9 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
             }
             // Only the per-stroke counts are printed: not the pairwise measures.
             renderer::Illustration il = finishHatching(view->begun, loaded, panel.field, panel.singularities, *view->rays,
-                                                       renderer::HatchMeasure::Counts, true, /*progress=*/false);
+                                                       renderer::HatchMeasure::Counts, true, /*progress=*/false,
+                                                       panel.scanCopy ? panel.scanCopy->frames.get() : nullptr,
+                                                       panel.scanCopy ? &panel.fieldOnCopy : nullptr);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.
             panel.seamFraction = renderer::inspectSeams(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;

@@ -46,6 +46,10 @@ struct ComparePanel {
     std::string label;
     field::RosyField field;
     field::SingularityReport singularities; ///< of `field`
+    /// A noisy scan's smoothed copy the field came from (field/scan_noise.h; `field`
+    /// is carried back from it) and the field on it, which the screen field reads.
+    std::shared_ptr<const field::SmoothedSurface> scanCopy;
+    field::RosyField fieldOnCopy;
     renderer::Image picture;                ///< at the scene camera's resolution
     /// Hatching panels: inspect's seam fraction of the ink and the stroke list's
     /// figures (NaN / 0 for field pictures).

@@ -228,7 +228,9 @@ std::vector<renderer::SurfaceLine> quadMeshLines(const LoadedScene &loaded, cons
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                      renderer::HatchMeasure measure, bool raster, bool progress) {
+                                      renderer::HatchMeasure measure, bool raster, bool progress,
+                                      const field::TangentFrames *copyFrames, const field::RosyField *fieldOnCopy) {
+    ROSY_CHECK((copyFrames == nullptr) == (fieldOnCopy == nullptr));
     renderer::IllustrationInput in = viewInput(*loaded.scene, rays);
     std::vector<renderer::SurfaceLine> quadLines;
     if (loaded.scene->style.hatch.lines == styles::HatchStyle::Lines::QuadMesh) {
@@ -240,6 +242,10 @@ renderer::Illustration finishHatching(renderer::Illustration begun, const Loaded
     }
     in.frames = loaded.frames.get();
     in.field = &rosyField;
+    if (copyFrames) {
+        in.frames = copyFrames;
+        in.field = fieldOnCopy;
+    }
     in.singularities = &singularities;
     in.measureHatching = measure;
     in.raster = raster;
@@ -253,6 +259,11 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
                                     renderer::HatchMeasure measure, bool raster) {
     return finishHatching(beginHatching(*loaded.scene, rays), loaded, rosyField, singularities, rays, measure,
                           raster);
+}
+
+void shadeFromSmoothedCopy(renderer::Illustration &begun, const Scene &scene, const renderer::RayScene &rays,
+                           const field::SmoothedSurface &copy) {
+    renderer::reshadeWithNormalsOf(begun, viewInput(scene, rays), *copy.mesh);
 }
 
 HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork,
@@ -326,10 +337,15 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
     out.timingsMs.emplace_back("bvh", view.bvhMs);
     if (options.onStage) options.onStage("bvh", view.bvhMs);
     out.rays = std::move(view.rays);
+    // A noisy scan's field came from a smoothed copy: so do the tone and the planes
+    // the screen field projects into (renderer::reshadeWithNormalsOf()).
+    if (out.field.smoothedSurface) shadeFromSmoothedCopy(view.begun, *out.loaded.scene, *out.rays, *out.field.smoothedSurface);
     out.illustration = finishHatching(std::move(view.begun), out.loaded, out.field.field.field,
                                       out.field.singularities, *out.rays,
                                       options.measureHatching ? renderer::HatchMeasure::All : renderer::HatchMeasure::None,
-                                      options.raster);
+                                      options.raster, /*progress=*/true,
+                                      out.field.smoothedSurface ? out.field.smoothedSurface->frames.get() : nullptr,
+                                      out.field.smoothedSurface ? &out.field.smoothedField : nullptr);
     for (const auto &[stage, ms] : out.illustration->timingsMs) {
         out.timingsMs.emplace_back(stage, ms);
         if (options.onStage) options.onStage(stage, ms);

@@ -198,14 +198,25 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
 /// hatching, raster: renderer::finishIllustration()), on a copy when several fields
 /// share one begun drawing. `progress` off: no terminal display (for panels drawn
 /// side by side). `contoursBesideHatching` moves the contours into finishHatching(),
-/// beside the hatching (for a single drawing).
+/// beside the hatching (for a single drawing). `copyFrames` and `fieldOnCopy`, both
+/// or neither: a noisy scan's smoothed copy (SceneFieldResult::smoothedSurface) and
+/// the field on it, which the screen field then reads (rosyField being the field
+/// carried back), so that the members are taken in the copy's face planes, not the
+/// noise's.
 renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays,
                                      bool contoursBesideHatching = false);
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                       renderer::HatchMeasure measure = renderer::HatchMeasure::All, bool raster = true,
-                                      bool progress = true);
+                                      bool progress = true, const field::TangentFrames *copyFrames = nullptr,
+                                      const field::RosyField *fieldOnCopy = nullptr);
+
+/// A begun hatching's tone and shading normals from a noisy scan's smoothed copy
+/// (SceneFieldResult::smoothedSurface; renderer::reshadeWithNormalsOf(), stage
+/// "scan_tone"): what renderScene() and compareScene() do once the field is judged.
+void shadeFromSmoothedCopy(renderer::Illustration &begun, const Scene &scene, const renderer::RayScene &rays,
+                           const field::SmoothedSurface &copy);
 
 /// What a hatching needs no field for: the Embree ray scene of the mesh, the begun
 /// drawing (beginHatching()) and the BVH's build time.
