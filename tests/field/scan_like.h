@@ -22,32 +22,38 @@ inline double hashedUniform(uint64_t v, uint64_t salt) {
     return double(x >> 11) / double(1ull << 52) - 1.0;
 }
 
-/// `mesh` with every third triangle split 1-to-3 at a point 2 % of the way from its
-/// first edge's midpoint to the opposite corner (needles, as tools/make_scan_mesh.py's
-/// slivers), then every vertex moved along its normal by uniform noise of `noise`
-/// times the mean edge length.
-inline field::Mesh makeScanLike(const field::Mesh &mesh, double noise) {
+/// `mesh` with every `every`-th triangle (from the first) split 1-to-3 at a point
+/// `fromEdge` of the way from its first edge's midpoint to the opposite corner: needle
+/// triangles beside normal ones, as tools/make_scan_mesh.py's slivers.
+inline field::Mesh withNeedles(const field::Mesh &mesh, int every, double fromEdge) {
     using field::Vec3;
     std::vector<Vec3> p = mesh.positions();
     std::vector<field::Face> faces;
     for (int f = 0; f < mesh.nFaces(); ++f) {
         const field::Face &t = mesh.face(f);
-        if (f % 3 != 0) {
+        if (f % every != 0) {
             faces.push_back(t);
             continue;
         }
         const Vec3 mid = 0.5 * (p[size_t(t[0])] + p[size_t(t[1])]);
         const int c = int(p.size());
-        p.push_back(mid + 0.02 * (p[size_t(t[2])] - mid));
+        p.push_back(mid + fromEdge * (p[size_t(t[2])] - mid));
         faces.push_back({t[0], t[1], c});
         faces.push_back({t[1], t[2], c});
         faces.push_back({t[2], t[0], c});
     }
-    const field::Mesh split = field::Mesh::fromTriangles(p, faces, mesh.name());
+    return field::Mesh::fromTriangles(std::move(p), std::move(faces), mesh.name());
+}
+
+/// withNeedles(mesh, 3, 0.02), then every vertex moved along its normal by uniform
+/// noise of `noise` times the mean edge length.
+inline field::Mesh makeScanLike(const field::Mesh &mesh, double noise) {
+    const field::Mesh split = withNeedles(mesh, 3, 0.02);
+    std::vector<field::Vec3> p = split.positions();
     const double e = split.meanEdgeLength();
     for (int v = 0; v < split.nVertices(); ++v)
         p[size_t(v)] += noise * e * hashedUniform(uint64_t(v), 17) * split.vertexNormal(v);
-    return field::Mesh::fromTriangles(p, faces, mesh.name());
+    return field::Mesh::fromTriangles(p, split.faces(), mesh.name());
 }
 
 } // namespace rosy::test

@@ -5,6 +5,7 @@
 #include "renderer/strokes/contours.h"
 
 #include "field/primitives.h"
+#include "../field/scan_like.h"
 #include "renderer/view/camera.h"
 #include "renderer/view/embree_scene.h"
 #include "renderer/view/gbuffer.h"
@@ -210,22 +211,9 @@ TEST(Contours, CubeShowsItsNineVisibleEdgesAndHidesTheOtherThree) {
 /// every vertex moved along its normal by noise of about `amount` times the mean edge
 /// length (a sum of four hashed uniforms: the same on every platform).
 Mesh scanLike(const Mesh &mesh, double amount) {
-    std::vector<Vec3> p = mesh.positions();
-    std::vector<rosy::field::Face> faces;
-    for (int f = 0; f < mesh.nFaces(); ++f) {
-        const rosy::field::Face &t = mesh.face(f);
-        if (f % 5 != 0) {
-            faces.push_back(t);
-            continue;
-        }
-        const Vec3 mid = 0.5 * (p[size_t(t[0])] + p[size_t(t[1])]);
-        const int v = int(p.size());
-        p.push_back(mid + 0.05 * (p[size_t(t[2])] - mid));
-        faces.push_back({t[0], t[1], v});
-        faces.push_back({t[1], t[2], v});
-        faces.push_back({t[2], t[0], v});
-    }
-    const Mesh split = Mesh::fromTriangles(p, faces);
+    const Mesh split = rosy::test::withNeedles(mesh, 5, 0.05);
+    std::vector<Vec3> p = split.positions();
+    std::vector<rosy::field::Face> faces = split.faces();
     double edge = 0.0;
     for (int e = 0; e < split.nEdges(); ++e) {
         int h = split.edgeHalfedge(e);
