@@ -68,6 +68,10 @@ void reshadeWithNormalsOf(Illustration &begun, const IllustrationInput &in, cons
         creaseAwareCornerNormals(normalsOf, kCreaseAngleDeg * M_PI / 180.0, normals.get()));
     begun.gbuffer.vertexNormals = std::move(normals);
     computeTargetDensity(begun, in);
+    begun.contourMesh = &normalsOf;
+    if (!begun.contoursPending)
+        begun.contourStrokes = extractContours(normalsOf, *in.camera, *in.scene, begun.gbuffer, in.style.contour,
+                                               &begun.contours, /*scanCopy=*/true);
     begun.timingsMs.emplace_back("scan_tone",
                                  std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
 }
@@ -155,7 +159,8 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
             if (contoursHere) {
                 const auto start = Clock::now();
                 out.contourStrokes =
-                    extractContours(*in.mesh, camera, *in.scene, out.gbuffer, in.style.contour, &out.contours);
+                    extractContours(out.contourMesh ? *out.contourMesh : *in.mesh, camera, *in.scene, out.gbuffer,
+                                    in.style.contour, &out.contours, out.contourMesh != nullptr);
                 contourMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
             }
             if (in.raster) {

@@ -107,6 +107,9 @@ struct Illustration {
     /// Set by beginIllustration() when IllustrationInput::contoursBesideHatching
     /// left the contours to finishIllustration().
     bool contoursPending = false;
+    /// Set by reshadeWithNormalsOf(): the mesh (same faces as IllustrationInput::mesh)
+    /// whose silhouettes and creases the contours are; null: the input's mesh.
+    const field::Mesh *contourMesh = nullptr;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster
     // For the EXR: the camera as OpenEXR's standard attributes (Camera::worldToCamera(),
     // Camera::worldToNdc()) and the ink colour its premultiplied RGB carries.
@@ -129,7 +132,10 @@ Illustration beginIllustration(const IllustrationInput &input);
 /// tone taken from `normalsOf` instead, a mesh with the same vertices and faces as
 /// input.mesh at other positions: on a noisy scan the smoothed copy its field came
 /// from (field/scan_noise.h), so that the tone, and the tangent planes the screen
-/// field projects into, are the shape's and not the noise's. Stage "scan_tone".
+/// field projects into, are the shape's and not the noise's; the contours are drawn
+/// from `normalsOf` too (again at once when beginIllustration() drew them already),
+/// their visibility still against the input's own surface. Stage "scan_tone".
+/// `normalsOf` must outlive the illustration's finishIllustration().
 void reshadeWithNormalsOf(Illustration &begun, const IllustrationInput &input, const field::Mesh &normalsOf);
 
 /// The rest on a begun illustration: screen field, hatching (in print mode traced

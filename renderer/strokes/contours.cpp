@@ -76,8 +76,8 @@ double smoothstep(double x) {
 class Extractor {
 public:
     Extractor(const field::Mesh &mesh, const Camera &camera, const RayScene &scene,
-              const GBuffer &gbuffer, const styles::ContourStyle &style)
-        : m_mesh(mesh), m_camera(camera), m_scene(scene), m_gbuffer(gbuffer), m_style(style) {}
+              const GBuffer &gbuffer, const styles::ContourStyle &style, bool scanCopy)
+        : m_mesh(mesh), m_camera(camera), m_scene(scene), m_gbuffer(gbuffer), m_style(style), m_scanCopy(scanCopy) {}
 
     StrokeList run(ContourReport *report);
 
@@ -126,6 +126,7 @@ private:
     std::vector<Chain> m_chains;
     int m_smallLoopsDropped = 0;
     int m_creasesBelowScale = 0; // edges whose faces bend past the threshold but not the surface at the picture's scale
+    bool m_scanCopy = false;     // the mesh is a noisy scan's smoothed copy: judged as a scan
     bool m_pictureScale = false; // outlines judged at the picture's scale (a scan's noise; see computeFaceNormalsAndCreases)
 };
 
@@ -160,8 +161,10 @@ void Extractor::computeFaceNormalsAndCreases() {
     // them everywhere. On a modelled mesh they are the few narrow real details (a
     // toenail's rim, a groove; a machine part's small fillets in a small picture) among
     // its real creases, and every crease is drawn as before.
-    m_pictureScale = judge && m_creasesBelowScale > kScanNoiseEdgeFraction * nE &&
-                     m_creasesBelowScale > kScanNoiseCreaseFraction * double(bent);
+    // A noisy scan's smoothed copy (field/scan_noise.h) keeps its needles, whose
+    // residue still bends below the scale in places: it is a scan whatever the counts.
+    m_pictureScale = judge && (m_scanCopy || (m_creasesBelowScale > kScanNoiseEdgeFraction * nE &&
+                                              m_creasesBelowScale > kScanNoiseCreaseFraction * double(bent)));
     for (uint8_t &c : m_crease) c = c == 1 || (c == 2 && !m_pictureScale) ? 1 : 0;
 }
 
@@ -555,8 +558,11 @@ bool Extractor::sampleVisible(const Sample &s) const {
     }
     // Neighbours: a silhouette sits between pixels of its own sheet and whatever lies
     // beyond it (background or farther surface); one such neighbour makes it visible.
-    for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
+    // A scan's smoothed copy runs up to its noise away from the surface drawn in the
+    // G-buffer, which at grazing angles is a pixel or more: two pixels around then.
+    const int reach = m_scanCopy ? 2 : 1;
+    for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
             int x = ix + dx, y = iy + dy;
             if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= w || y >= h) continue;
             size_t q = size_t(m_gbuffer.index(x, y));
@@ -834,8 +840,8 @@ StrokeList Extractor::run(ContourReport *report) {
 
 StrokeList extractContours(const field::Mesh &mesh, const Camera &camera, const RayScene &scene,
                            const GBuffer &gbuffer, const styles::ContourStyle &style,
-                           ContourReport *report) {
-    Extractor extractor(mesh, camera, scene, gbuffer, style);
+                           ContourReport *report, bool scanCopy) {
+    Extractor extractor(mesh, camera, scene, gbuffer, style, scanCopy);
     return extractor.run(report);
 }
 

@@ -71,8 +71,12 @@ constexpr uint32_t kContourIdBase = 0x40000000u;
 ///   shorter than ~2 px and visible runs shorter than 2 px are dropped, so noisy
 ///   occlusion flips do not break chains. Output is identical for any thread count.
 ///   An empty mesh gives an empty list; parts behind the camera plane are skipped.
+/// `scanCopy`: `mesh` is a noisy scan's smoothed copy (field/scan_noise.h; same faces
+///   as the mesh `scene` and `gbuffer` were made of, which visibility is tested
+///   against): its outlines are judged at the picture's scale (style.featureScalePx)
+///   whatever its counts of creases.
 StrokeList extractContours(const field::Mesh &mesh, const Camera &camera, const RayScene &scene,
                            const GBuffer &gbuffer, const styles::ContourStyle &style,
-                           ContourReport *report = nullptr);
+                           ContourReport *report = nullptr, bool scanCopy = false);
 
 } // namespace rosy::renderer

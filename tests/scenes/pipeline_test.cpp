@@ -494,4 +494,14 @@ camera: {auto: true, direction: [1, 0.4, 0.7], resolution: [256, 256]}
     // neither 0.065 and 14.3° (docs/hatching.md, "Fields on noisy scans").
     EXPECT_LT(meanTone, 0.05);
     EXPECT_LT(meanAngle * 180 / M_PI, 11.5);
+    // The contours are the copy's, judged as a scan's: the outline, not the noise's.
+    auto contourStrokes = [](const renderer::Illustration &il) {
+        return std::count_if(il.strokes.strokes.begin(), il.strokes.strokes.end(),
+                             [](const renderer::Stroke &st) { return st.kind == renderer::StrokeKind::Contour; });
+    };
+    ::testing::Test::RecordProperty("contours_clean", std::to_string(contourStrokes(a)));
+    ::testing::Test::RecordProperty("contours_scan", std::to_string(contourStrokes(b)));
+    // Measured 1 and 27; the scan's own contours (judged at the picture's scale too) 387.
+    EXPECT_TRUE(b.contours.judgedAtPictureScale);
+    EXPECT_LE(contourStrokes(b), 60);
 }
