@@ -112,6 +112,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
         // Everything again on the smoothed copy; the scene's frames get the field carried back.
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
         timed("scan_field", timings, options, [&] {
+            out.field = {}; // the noise's field and its curvature: not kept beside the copy's
             auto copy = std::make_shared<field::SmoothedSurface>(field::smoothAlongNormals(mesh));
             const field::TangentFrames &smooth = *copy->frames;
             field::FieldResult r = field::buildField(smooth, out.spec);

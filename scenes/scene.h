@@ -251,10 +251,12 @@ long long primitiveFaceCount(const MeshDesc &mesh);
 /// peak RSS of bunny00 at 1024², 2048² and 4096²): per pixel 130 bytes of buffers
 /// (G-buffer, screen field, ink layers) plus the larger of the hatching's strokes,
 /// 160 / hatch.min_spacing_px bytes (427 bytes per pixel measured at the densest
-/// 0.5 px), and an EXR output's channels, 100 bytes; per face 900 bytes (frames,
+/// 0.5 px), and an EXR output's channels, 100 bytes; per face 1300 bytes (frames,
 /// field, solver, ray-tracing structure, contours: peak RSS at 1024² of a 270k-face
 /// scan 302 MB, of the CGAL elephant subdivided to 5.7 M faces 4.89 GB and to 8.0 M
-/// faces with noise 6.50 GB, about 820 bytes a face at that size). Conservative: the
+/// faces with noise 6.50 GB, about 820 bytes a face at that size; a scan judged noisy,
+/// whose field is computed again on a smoothed copy (field/scan_noise.h), 2.80 GB at
+/// 2.3 M faces and 10.3 GB at 9.1 M, 1.23 and 1.13 KB a face). Conservative: the
 /// defaults measure 112 bytes per pixel (PNG) and 206 (EXR) against 180 and 230 estimated.
 uint64_t renderMemoryEstimate(const Scene &scene, bool exrOutput);
 /// The same from the numbers it depends on.

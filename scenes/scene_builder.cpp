@@ -126,7 +126,7 @@ long long primitiveFaceCount(const MeshDesc &m) {
 uint64_t renderMemoryEstimate(double pixels, double faces, double minSpacingPx, bool exrOutput) {
     const double spacing = std::max(minSpacingPx, 0.5);
     const double perPixel = 130.0 + std::max(160.0 / spacing, exrOutput ? 100.0 : 0.0);
-    const double perFace = 900.0;
+    const double perFace = 1300.0;
     return uint64_t(pixels * perPixel + faces * perFace);
 }
 
