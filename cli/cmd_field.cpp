@@ -412,7 +412,7 @@ void runField(const FieldOptions &opt) {
             json.key("scan_noise").beginObject();
             json.field("singularities_on_surface", double(built.field.noisySingularities));
             json.field("density", built.field.noisyDensity);
-            json.field("smoothing_rounds", built.field.smoothedSurface->rounds).endObject();
+            json.field("smoothing_radius", built.field.smoothedSurface->radius).endObject();
         }
         writeEditsJson(json, applied);
         if (opt.separatrices) field::writeSeparatricesJson(json, separatrices);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace rosy::field {
@@ -30,48 +31,128 @@ bool fieldIsScanNoise(const Mesh &mesh, size_t nSingularities) {
 
 namespace {
 
-/// Angle-weighted normal at v of the mesh with positions p, unnormalised (each face
-/// around v is reached once, by its halfedge out of v; as Mesh::vertexNormal(), which
-/// on needle triangles is steadier than weighting by area).
-Vec3 normalSum(const Mesh &mesh, const std::vector<Vec3> &p, int v) {
-    Vec3 n = Vec3::Zero();
-    for (const int *h = mesh.outgoingBegin(v); h != mesh.outgoingEnd(v); ++h) {
-        const Vec3 a = p[size_t(mesh.head(*h))] - p[size_t(v)];
-        const Vec3 b = p[size_t(mesh.head(Mesh::next(*h)))] - p[size_t(v)];
-        const Vec3 c = a.cross(b);
-        const double len = c.norm();
-        if (len > 0) n += std::atan2(len, a.dot(b)) * (c / len);
+/// A = I + t L on the interior vertices, L the uniform graph Laplacian (deg(v) x_v −
+/// Σ neighbours), boundary vertices held (their terms moved to the right-hand side):
+/// symmetric positive definite. Vectors are per vertex (Vec3: the three coordinates
+/// solved at once), zero at boundary vertices.
+struct Implicit {
+    const Mesh &mesh;
+    double t;
+    std::vector<uint8_t> held; // boundary or isolated: not an unknown
+
+    /// y = A x for the unknowns (x zero at held vertices).
+    void apply(const std::vector<Vec3> &x, std::vector<Vec3> &y) const {
+        parallelFor(0, mesh.nVertices(), [&](int64_t vv) {
+            const int v = int(vv);
+            if (held[size_t(v)]) {
+                y[size_t(v)] = Vec3::Zero();
+                return;
+            }
+            Vec3 sum = Vec3::Zero();
+            for (const int *h = mesh.outgoingBegin(v); h != mesh.outgoingEnd(v); ++h) sum += x[size_t(mesh.head(*h))];
+            y[size_t(v)] = (1.0 + t * mesh.degree(v)) * x[size_t(v)] - t * sum;
+        }, 4096);
     }
-    return n;
+};
+
+/// Per coordinate, Σ a_v b_v over the vertices in fixed blocks summed in order: the
+/// same bits for any thread count.
+Vec3 dots(const std::vector<Vec3> &a, const std::vector<Vec3> &b) {
+    constexpr int64_t kBlock = 8192;
+    const int64_t n = int64_t(a.size()), nBlocks = (n + kBlock - 1) / kBlock;
+    std::vector<Vec3> partial(size_t(nBlocks), Vec3::Zero());
+    parallelFor(0, nBlocks, [&](int64_t k) {
+        Vec3 sum = Vec3::Zero();
+        for (int64_t i = k * kBlock; i < std::min(n, (k + 1) * kBlock); ++i) sum += a[size_t(i)].cwiseProduct(b[size_t(i)]);
+        partial[size_t(k)] = sum;
+    }, 1);
+    Vec3 total = Vec3::Zero();
+    for (const Vec3 &p : partial) total += p;
+    return total;
+}
+
+/// Solves A x = b (x zero at held vertices, b too) by conjugate gradients with the
+/// diagonal as preconditioner, the three coordinates side by side, to a relative
+/// residual of 1e-8 or kMaxIterations.
+std::vector<Vec3> solveImplicit(const Implicit &A, const std::vector<Vec3> &b) {
+    constexpr int kMaxIterations = 4000;
+    const size_t n = b.size();
+    std::vector<double> inverseDiagonal(n, 0.0);
+    for (size_t v = 0; v < n; ++v)
+        if (!A.held[v]) inverseDiagonal[v] = 1.0 / (1.0 + A.t * A.mesh.degree(int(v)));
+    std::vector<Vec3> x(n, Vec3::Zero()), r = b, z(n), p(n), q(n);
+    auto precondition = [&] {
+        parallelFor(0, int64_t(n), [&](int64_t v) { z[size_t(v)] = inverseDiagonal[size_t(v)] * r[size_t(v)]; }, 8192);
+    };
+    precondition();
+    p = z;
+    Vec3 rz = dots(r, z);
+    const Vec3 bb = dots(b, b);
+    for (int it = 0; it < kMaxIterations; ++it) {
+        const Vec3 rr = dots(r, r);
+        bool done = true;
+        for (int c = 0; c < 3; ++c) done = done && !(rr[c] > 1e-16 * bb[c]);
+        if (done) break;
+        A.apply(p, q);
+        const Vec3 pq = dots(p, q);
+        Vec3 alpha;
+        for (int c = 0; c < 3; ++c) alpha[c] = pq[c] > 0 ? rz[c] / pq[c] : 0.0;
+        parallelFor(0, int64_t(n), [&](int64_t v) {
+            x[size_t(v)] += alpha.cwiseProduct(p[size_t(v)]);
+            r[size_t(v)] -= alpha.cwiseProduct(q[size_t(v)]);
+        }, 8192);
+        precondition();
+        const Vec3 rzNext = dots(r, z);
+        Vec3 beta;
+        for (int c = 0; c < 3; ++c) beta[c] = rz[c] > 0 ? rzNext[c] / rz[c] : 0.0;
+        rz = rzNext;
+        parallelFor(0, int64_t(n), [&](int64_t v) { p[size_t(v)] = z[size_t(v)] + beta.cwiseProduct(p[size_t(v)]); },
+                    8192);
+    }
+    return x;
 }
 
 } // namespace
 
-SmoothedSurface smoothAlongNormals(const Mesh &mesh, int rounds) {
+SmoothedSurface smoothAtScale(const Mesh &mesh, double radius) {
     const int n = mesh.nVertices();
-    std::vector<Vec3> p = mesh.positions(), q(p.size());
-    for (int pass = 0; pass < 2 * std::max(0, rounds); ++pass) {
-        const double step = pass % 2 == 0 ? 0.5 : -0.53; // Taubin's λ, then μ
-        parallelFor(0, n, [&](int64_t vv) {
-            const int v = int(vv);
-            q[size_t(v)] = p[size_t(v)];
-            if (mesh.isBoundaryVertex(v) || mesh.degree(v) == 0) return;
-            Vec3 mean = Vec3::Zero();
-            for (const int *h = mesh.outgoingBegin(v); h != mesh.outgoingEnd(v); ++h) mean += p[size_t(mesh.head(*h))];
-            mean /= double(mesh.degree(v));
-            const Vec3 nrm = normalSum(mesh, p, v);
-            const double len = nrm.norm();
-            if (!(len > 0)) return;
-            const Vec3 unit = nrm / len;
-            q[size_t(v)] += step * (mean - p[size_t(v)]).dot(unit) * unit;
-        }, 1024);
-        std::swap(p, q);
-    }
+    const double e = mesh.meanEdgeLength();
+    Implicit A{mesh, e > 0 ? (radius / e) * (radius / e) : 0.0, std::vector<uint8_t>(size_t(n), 0)};
+    for (int v = 0; v < n; ++v) A.held[size_t(v)] = mesh.isBoundaryVertex(v) || mesh.degree(v) == 0;
+    const std::vector<Vec3> &x0 = mesh.positions();
+    // Right-hand side of A x = x0 on the unknowns: x0 plus t times the held neighbours.
+    std::vector<Vec3> b(size_t(n), Vec3::Zero());
+    parallelFor(0, n, [&](int64_t vv) {
+        const int v = int(vv);
+        if (A.held[size_t(v)]) return;
+        Vec3 rhs = x0[size_t(v)];
+        for (const int *h = mesh.outgoingBegin(v); h != mesh.outgoingEnd(v); ++h)
+            if (A.held[size_t(mesh.head(*h))]) rhs += A.t * x0[size_t(mesh.head(*h))];
+        b[size_t(v)] = rhs;
+    }, 4096);
+    std::vector<Vec3> x1 = solveImplicit(A, b);
+    // The low-pass of the displacement is the shape's shrinkage: taken back out, so that
+    // the filter is 1 − (tk / (1 + tk))², flat to second order where the shape is.
+    std::vector<Vec3> d(size_t(n), Vec3::Zero());
+    parallelFor(0, n, [&](int64_t v) {
+        if (!A.held[size_t(v)]) d[size_t(v)] = x1[size_t(v)] - x0[size_t(v)];
+    }, 8192);
+    const std::vector<Vec3> shrink = solveImplicit(A, d);
+    std::vector<Vec3> p(static_cast<size_t>(n));
+    parallelFor(0, n, [&](int64_t v) {
+        p[size_t(v)] = A.held[size_t(v)] ? x0[size_t(v)] : Vec3(x1[size_t(v)] - shrink[size_t(v)]);
+    }, 8192);
     SmoothedSurface out;
-    out.rounds = rounds;
+    out.radius = radius;
     out.mesh = std::make_unique<Mesh>(Mesh::fromTriangles(std::move(p), mesh.faces(), mesh.name()));
     out.frames = std::make_unique<TangentFrames>(*out.mesh);
     return out;
+}
+
+SmoothedSurface smoothAtScale(const Mesh &mesh) {
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    return smoothAtScale(mesh, std::max(kScanSmoothingRadius * (hi - lo).norm(), kScanSmoothingEdges * mesh.meanEdgeLength()));
 }
 
 RosyField carryField(const TangentFrames &from, const RosyField &field, const TangentFrames &to) {

@@ -13,9 +13,8 @@
 /// clean scans have a few.
 ///
 /// The remedy keeps the mesh and moves its points: a copy with the same vertices and
-/// faces whose positions are smoothed along their normals (Taubin's λ|μ, which does
-/// not shrink the shape) until the noise is gone and the shape's curvature at the
-/// scale of a few edges is left; frames, field, edits, singularities and separatrices
+/// faces whose positions are smoothed at a world scale (smoothAtScale(), which does
+/// not shrink the shape) until the noise is gone and the shape is left; frames, field, edits, singularities and separatrices
 /// are computed on the copy, and the field's directions are carried back to the
 /// scan's own vertices by projection onto their tangent planes. The singularities
 /// keep their faces and barycentric coordinates (the faces are the same), their
@@ -40,9 +39,17 @@ constexpr double kScanNoiseScale = 0.08;
 /// scan-like elephant at noise 0.3 329, an 8M-face one 2,060.
 constexpr double kScanNoiseDensity = 20.0;
 
-/// Taubin λ|μ rounds of the smoothed copy: enough that the copy of a noise-0.3 scan
-/// carries as many singularities as its clean original (docs/hatching.md).
-constexpr int kScanSmoothingRounds = 20;
+/// The smoothed copy's smoothing radius relative to the bounding-box diagonal: a world
+/// scale, the same part of the shape at any resolution (docs/hatching.md: at 0.006 the
+/// copies of scan-like elephants of 568k and 9.1M faces have 94 and 96 singularities
+/// against the clean elephant's 108; 20 rounds of Taubin smoothing, a scale in edges,
+/// left 126 and 418).
+constexpr double kScanSmoothingRadius = 0.006;
+/// ... and at least this many mean edge lengths: on a coarser scan the noise is the
+/// same part of an edge and needs the same reach in edges (a 136k-face ellipsoid, 260
+/// edges across, keeps 72 singularities at 0.006 of its diagonal, 1.5 edges, and 8 at 4, its
+/// clean version's count).
+constexpr double kScanSmoothingEdges = 4.0;
 
 /// Singularities per (kScanNoiseScale × diagonal)² of `mesh`'s surface; 0 on a mesh
 /// without area.
@@ -57,16 +64,23 @@ bool fieldIsScanNoise(const Mesh &mesh, size_t nSingularities);
 struct SmoothedSurface {
     std::unique_ptr<Mesh> mesh;
     std::unique_ptr<TangentFrames> frames;
-    int rounds = 0;
+    double radius = 0; ///< world units
 };
 
-/// `mesh` with the same vertices and faces, each interior vertex moved along its
-/// (angle-weighted) normal by `rounds` Taubin λ|μ rounds (λ = 0.5, μ = −0.53, the
-/// uniform umbrella operator's normal part: no drift along the surface, so needle
-/// triangles stay where they are); boundary vertices stay. Deterministic for any
-/// thread count. \throws InputError when the copy is not a valid mesh (it always is
-/// for a valid input).
-SmoothedSurface smoothAlongNormals(const Mesh &mesh, int rounds = kScanSmoothingRounds);
+/// `mesh` with the same vertices and faces, its interior vertices smoothed at `radius`
+/// (world units) and boundary vertices held: x₁ = A⁻¹ x₀ with A = I + tL, L the
+/// uniform graph Laplacian and t = (radius / mean edge)², one implicit diffusion step
+/// of that reach; then the low-pass of the displacement, A⁻¹(x₁ − x₀), taken back out
+/// (the shape's shrinkage), so the filter is 1 − (tk / (1 + tk))² for a Laplacian
+/// eigenvalue k: flat to second order at the shape's scale, zero for the noise. Two
+/// conjugate-gradient solves, matrix-free and parallel, the same bits for any thread
+/// count. Vertices may move along the surface (up to about the radius on very uneven
+/// triangles); the field is carried back by vertex, and a field varies at the
+/// smoothing length (FieldSpec::smoothingLength, 0.08 of the diagonal), far above it.
+SmoothedSurface smoothAtScale(const Mesh &mesh, double radius);
+/// smoothAtScale() at kScanSmoothingRadius times the bounding-box diagonal or
+/// kScanSmoothingEdges mean edge lengths, whichever is longer.
+SmoothedSurface smoothAtScale(const Mesh &mesh);
 
 /// `field` (on `from`'s vertices) carried to `to`, a mesh with the same vertices:
 /// each vertex's first member projected onto `to`'s tangent plane there, its

@@ -113,7 +113,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
         timed("scan_field", timings, options, [&] {
             out.field = {}; // the noise's field and its curvature: not kept beside the copy's
-            auto copy = std::make_shared<field::SmoothedSurface>(field::smoothAlongNormals(mesh));
+            auto copy = std::make_shared<field::SmoothedSurface>(field::smoothAtScale(mesh));
             const field::TangentFrames &smooth = *copy->frames;
             field::FieldResult r = field::buildField(smooth, out.spec);
             // Kept on the copy: its singularities are found there, below, then it is carried back.
@@ -129,9 +129,9 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
         warn(mesh.name(), "scan-noise",
              fmt::format("the field on this surface has {} singularities, {:.0f} per ({:g} x diagonal)^2 of surface "
                          "(clean meshes have a few): its noise, not its shape; the field was computed on a copy "
-                         "smoothed along the normals ({} Taubin rounds), which has {}, and carried back",
+                         "smoothed at {:g} x diagonal, which has {}, and carried back",
                          out.noisySingularities, out.noisyDensity, field::kScanNoiseScale,
-                         out.smoothedSurface->rounds, out.singularities.singularities.size()));
+                         field::kScanSmoothingRadius, out.singularities.singularities.size()));
     }
     const field::TangentFrames &fieldFrames = out.fieldFrames(frames);
     if (options.separatrices)

@@ -11,6 +11,7 @@
 #include "scan_like.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <vector>
@@ -20,11 +21,15 @@ using namespace rosy::field;
 
 namespace {
 
-/// Root-mean-square distance of a's vertices from b's (the same vertices).
-double rmsOffset(const Mesh &a, const Mesh &b) {
+/// Root-mean-square of |x / (a, b, c)| − 1 over the vertices: how far they lie from
+/// the ellipsoid (1, 0.7, 0.5) across its surface, relative to its size.
+double ellipsoidError(const Mesh &mesh) {
     double sum = 0;
-    for (int v = 0; v < a.nVertices(); ++v) sum += (a.position(v) - b.position(v)).squaredNorm();
-    return std::sqrt(sum / a.nVertices());
+    for (const Vec3 &q : mesh.positions()) {
+        const double e = q.cwiseQuotient(Vec3(1.0, 0.7, 0.5)).norm() - 1.0;
+        sum += e * e;
+    }
+    return std::sqrt(sum / mesh.nVertices());
 }
 
 SingularityReport singularitiesOf(const TangentFrames &frames) {
@@ -47,14 +52,17 @@ TEST(ScanNoise, NoisyScanIsJudgedAndItsSmoothedCopyHasTheCleanSingularities) {
     EXPECT_TRUE(fieldIsScanNoise(scan, raw));
     EXPECT_GT(singularityDensity(scan, raw), kScanNoiseDensity);
 
-    const SmoothedSurface copy = smoothAlongNormals(scan);
+    const SmoothedSurface copy = smoothAtScale(scan);
     ASSERT_EQ(copy.mesh->nVertices(), scan.nVertices());
     EXPECT_EQ(copy.mesh->faces(), scan.faces());
-    // Closer to the noise-free surface than the scan is (the noise, not the shape, goes).
-    EXPECT_LT(rmsOffset(*copy.mesh, needles), 0.6 * rmsOffset(scan, needles));
+    // Closer to the ellipsoid than the scan is (the noise, not the shape, goes; measured
+    // across the surface, as vertices may move along it).
+    EXPECT_LT(ellipsoidError(*copy.mesh), 0.5 * ellipsoidError(scan));
     const FieldResult onCopy = buildField(*copy.frames, FieldSpec{});
     const SingularityReport copySings = findSingularities(*copy.frames, onCopy.field);
     EXPECT_LE(copySings.singularities.size(), 2 * clean + 4);
+    ::testing::Test::RecordProperty("copy_singularities", int(copySings.singularities.size()));
+    ::testing::Test::RecordProperty("clean_singularities", int(clean));
     EXPECT_FALSE(fieldIsScanNoise(scan, copySings.singularities.size()));
     EXPECT_EQ(copySings.indexNumeratorSum, 4 * 2); // N χ, a sphere
 
@@ -97,7 +105,8 @@ TEST(ScanNoise, SmoothingKeepsBoundaryVerticesAndTakesTheNoiseOutOfAPlane) {
     std::vector<Vec3> p = disk.positions();
     for (int v = 0; v < disk.nVertices(); ++v) p[size_t(v)].z() = 0.01 * test::hashedUniform(uint64_t(v), 5);
     const Mesh bumpy = Mesh::fromTriangles(p, disk.faces(), "bumpy");
-    const SmoothedSurface copy = smoothAlongNormals(bumpy);
+    const SmoothedSurface copy = smoothAtScale(bumpy, 2.0 * bumpy.meanEdgeLength());
+    EXPECT_EQ(copy.mesh->faces(), bumpy.faces());
     double before = 0, after = 0;
     for (int v = 0; v < bumpy.nVertices(); ++v) {
         const Vec3 &a = bumpy.position(v), &b = copy.mesh->position(v);
@@ -105,15 +114,31 @@ TEST(ScanNoise, SmoothingKeepsBoundaryVerticesAndTakesTheNoiseOutOfAPlane) {
             EXPECT_EQ(a, b) << v;
             continue;
         }
-        // Along the normal only: x and y stay (the plane's normal is z up to the bumps).
-        EXPECT_NEAR(a.x(), b.x(), 2e-3) << v;
-        EXPECT_NEAR(a.y(), b.y(), 2e-3) << v;
+        // In the plane, vertices move by less than an edge (the disk's rings are even).
+        EXPECT_LT((a.head<2>() - b.head<2>()).norm(), bumpy.meanEdgeLength()) << v;
         before += a.z() * a.z();
         after += b.z() * b.z();
     }
-    // A low-pass filter: the noise's long waves on so small a disk stay (measured 0.15).
+    // A low-pass filter: the noise's long waves on so small a disk stay.
     EXPECT_LT(after, 0.25 * before);
-    // Zero rounds: the same positions.
-    const SmoothedSurface none = smoothAlongNormals(bumpy, 0);
+    // Radius zero: the same positions.
+    const SmoothedSurface none = smoothAtScale(bumpy, 0.0);
     EXPECT_EQ(none.mesh->positions(), bumpy.positions());
+}
+
+TEST(ScanNoise, SmoothingDoesNotShrinkTheShape) {
+    // A sphere smoothed at a tenth of its radius keeps its radius (the displacement's
+    // low-pass is taken back out), where one implicit step alone shrinks it.
+    const Mesh sphere = makeIcosphere(4, 1.0);
+    const SmoothedSurface copy = smoothAtScale(sphere, 0.1);
+    double meanRadius = 0;
+    for (const Vec3 &q : copy.mesh->positions()) meanRadius += q.norm();
+    meanRadius /= copy.mesh->nVertices();
+    EXPECT_NEAR(meanRadius, 1.0, 2e-3);
+    // And it is the same for any thread count.
+    const SmoothedSurface again = [&] {
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        return smoothAtScale(sphere, 0.1);
+    }();
+    EXPECT_EQ(again.mesh->positions(), copy.mesh->positions());
 }
