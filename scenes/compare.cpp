@@ -53,14 +53,10 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
     const char letters[] = "abcdefgh";
 
     std::vector<ComparePanel> &panels = out.panels;
-    // On a noisy scan (field/scan_noise.h) the smoothed copy the fields came from: the
-    // panels' shared tone is then taken from it, as renderScene() does.
-    std::vector<std::shared_ptr<const field::SmoothedSurface>> scanCopies;
     auto buildFields = [&] {
         if (spec.variants.empty()) {
             // The fields are independent: built side by side, each into its own slot.
             panels.resize(spec.symmetries.size());
-            scanCopies.resize(spec.symmetries.size());
             parallelFor(0, int64_t(spec.symmetries.size()), [&](int64_t kk) {
                 const size_t k = size_t(kk);
                 PipelineOptions panelOptions = options;
@@ -69,7 +65,6 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
                 // The scene's edits name singularities of its own field: only that N gets them.
                 panelOptions.applyEdits = spec.symmetries[k] == fieldSpec.nSym;
                 SceneFieldResult built = buildSceneField(loaded, desc.field, panelOptions);
-                scanCopies[k] = built.smoothedSurface;
                 ComparePanel &panel = panels[k];
                 panel.scanCopy = built.smoothedSurface;
                 panel.fieldOnCopy = std::move(built.smoothedField);
@@ -85,7 +80,6 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         PipelineOptions baseOptions = options;
         baseOptions.applyEdits = false;
         const SceneFieldResult built = buildSceneField(loaded, desc.field, baseOptions);
-        scanCopies.push_back(built.smoothedSurface);
         // On a noisy scan the variants are made on the smoothed copy the field was
         // computed on (field/scan_noise.h) and carried back like the field itself.
         const field::TangentFrames &vf = built.fieldFrames(frames);
@@ -155,9 +149,11 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
         timed("fields", buildFields);
     } else {
         view = beginHatchingBeside(scene, [&] { timed("fields", buildFields); });
-        for (const auto &copy : scanCopies)
-            if (copy) {
-                shadeFromSmoothedCopy(view->begun, scene, *view->rays, *copy);
+        // On a noisy scan (field/scan_noise.h) the panels' shared tone and contours come
+        // from the smoothed copy their fields came from, as renderScene()'s do.
+        for (const ComparePanel &panel : panels)
+            if (panel.scanCopy) {
+                shadeFromSmoothedCopy(view->begun, scene, *view->rays, *panel.scanCopy);
                 break;
             }
         out.timingsMs.emplace_back("bvh", view->bvhMs);

@@ -111,7 +111,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     if (noisy) {
         // Everything again on the smoothed copy; the scene's frames get the field carried back.
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
-        timed("scan_field", timings, options, [&] {
+        out.smoothedSurface = timed("scan_field", timings, options, [&] {
             out.field = {}; // the noise's field and its curvature: not kept beside the copy's
             auto copy = std::make_shared<field::SmoothedSurface>(field::smoothAtScale(mesh));
             const field::TangentFrames &smooth = *copy->frames;
@@ -123,8 +123,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
             out.smoothedField = r.field;
             r.field = field::carryField(smooth, r.field, frames);
             out.field = std::move(r);
-            out.smoothedSurface = std::move(copy);
-            return 0;
+            return std::shared_ptr<const field::SmoothedSurface>(std::move(copy));
         });
         warn(mesh.name(), "scan-noise",
              fmt::format("the field on this surface has {} singularities, {:.0f} per ({:g} x diagonal)^2 of surface "
