@@ -22,6 +22,12 @@ struct LoadOptions {
     /// Repair awkward but valid meshes (the default). When false, anything that
     /// would need a repair is an InputError instead.
     bool repair = true;
+    /// Point-in-triangle tests ear clipping may spend on one file (quadratic in a
+    /// polygon's size); past it the remaining non-convex polygons are fanned and
+    /// reported (LoadReport::largePolygonsFanned). The default keeps a file of large
+    /// non-convex polygons to about half a second of loading (one polygon of about
+    /// 14,000 corners exhausts it).
+    int64_t earClipBudget = 200'000'000;
 };
 
 /// Counts of the repairs made while loading (all zero for a clean file).

@@ -8,9 +8,11 @@
 #include "field/mesh/union_find.h"
 #include "core/parallel.h"
 
+#include <fmt/format.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <atomic>
 #include <cstdlib>
@@ -192,12 +194,6 @@ void rejectBadCoordinatesAndCounts(const std::vector<Vec3> &positions, size_t nP
                          "simplify the mesh or raise the face limit");
 }
 
-/// Point-in-triangle tests ear clipping may spend on one file (earClip(), quadratic
-/// in a polygon's size); past it the remaining non-convex polygons are fanned and
-/// reported. A file of many large non-convex polygons cannot make loading take more
-/// than about half a second (one non-convex polygon of 14,000 corners exhausts it).
-constexpr long long kEarClipBudget = 200'000'000;
-
 /// Ear clipping of polygon `poly` (at least 4 distinct consecutive indices) in the
 /// plane of its Newell normal `n`: the first ear in the polygon's order is cut
 /// off (a convex corner whose triangle holds no other corner of the polygon, on its
@@ -266,14 +262,14 @@ EarClip earClip(const std::vector<int> &poly, const std::vector<Vec3> &positions
 /// whose fan would cover the notch with folded triangles) is ear-clipped. One that
 /// crosses itself in that plane (its turns do not add up to one full turn, or no
 /// ear is left) has no sound triangulation: it is fanned and counted in
-/// rep.polygonsFanned; past kEarClipBudget they are fanned too (rep.largePolygonsFanned).
+/// rep.polygonsFanned; past LoadOptions::earClipBudget they are fanned too (rep.largePolygonsFanned).
 std::vector<Face> triangulatePolygons(const std::vector<std::vector<int>> &polygons,
-                                      const std::vector<Vec3> &positions, const FileLoc &loc, LoadReport &rep) {
+                                      const std::vector<Vec3> &positions, const FileLoc &loc, long long budget,
+                                      LoadReport &rep) {
     const int nV = int(positions.size());
     std::vector<Face> tris;
     tris.reserve(polygons.size());
     std::vector<int> poly;
-    long long budget = kEarClipBudget;
     for (size_t p = 0; p < polygons.size(); ++p) {
         for (int idx : polygons[p])
             if (idx < 0 || idx >= nV)
@@ -692,7 +688,7 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
     LoadReport rep;
     const FileLoc loc{name};
     rejectBadCoordinatesAndCounts(positions, polygons.size(), loc, options);
-    std::vector<Face> tris = triangulatePolygons(polygons, positions, loc, rep);
+    std::vector<Face> tris = triangulatePolygons(polygons, positions, loc, options.earClipBudget, rep);
     const std::vector<int> representative = mergeIdenticalVertices(positions, tris, rep);
     dropDegenerateFaces(positions, tris, rep);
     dropDuplicateFaces(tris, rep);
@@ -702,7 +698,9 @@ Mesh repairAndBuild(std::vector<Vec3> positions, const std::vector<std::vector<i
            "polygons that cross themselves or fold back in their plane (no ear clipping finds their triangles)",
            "fanned from their first vertex; their triangles may overlap");
     report(name, options, "large-nonconvex-polygons", rep.largePolygonsFanned,
-           "non-convex polygons too large to ear-clip within the loader's budget (about 14,000 corners in all)",
+           fmt::format("non-convex polygons too large to ear-clip within the loader's budget (about {:.0f} corners "
+                       "in all)",
+                       1000 * std::round(std::sqrt(double(options.earClipBudget)) / 1000)),
            "fanned from their first vertex; their triangles may overlap (triangulate them before loading)");
     report(name, options, "degenerate-faces", rep.degenerateFacesDropped,
            "faces with a repeated vertex or zero area", "dropped");

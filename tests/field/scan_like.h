@@ -11,6 +11,21 @@
 
 namespace rosy::test {
 
+/// The scan-like ellipsoid of the noisy-scan tests (field/scan_noise.h's and the
+/// pipeline's): makeEllipsoid(kScanEllipsoidLevel, 1.0, 0.7, 0.5) through
+/// makeScanLike(…, kScanEllipsoidNoise), 136k faces with noise of half an edge.
+/// Under the sanitizers, whose -O1 build leaves the smoothing's and the field's small
+/// Eigen expressions uninlined (40-50 s per test at level 6), one level coarser (34k
+/// faces) with noise of 0.7 edges, so that its field is still judged noise
+/// (singularity density 23.6 against field::kScanNoiseDensity's 20).
+#ifdef ROSY_SANITIZED
+inline constexpr int kScanEllipsoidLevel = 5;
+inline constexpr double kScanEllipsoidNoise = 0.7;
+#else
+inline constexpr int kScanEllipsoidLevel = 6;
+inline constexpr double kScanEllipsoidNoise = 0.5;
+#endif
+
 /// A uniform number in [-1, 1) from (v, salt).
 inline double hashedUniform(uint64_t v, uint64_t salt) {
     uint64_t x = v * 0x9E3779B97F4A7C15ull + salt;

@@ -40,9 +40,10 @@ SingularityReport singularitiesOf(const TangentFrames &frames) {
 
 TEST(ScanNoise, NoisyScanIsJudgedAndItsSmoothedCopyHasTheCleanSingularities) {
     // An ellipsoid with needles (its shape's field: a few singularities near the 4
-    // umbilics), then with noise of half an edge along the normals.
-    const Mesh needles = test::makeScanLike(makeEllipsoid(6, 1.0, 0.7, 0.5), 0.0);
-    const Mesh scan = test::makeScanLike(makeEllipsoid(6, 1.0, 0.7, 0.5), 0.5);
+    // umbilics), then with noise of half an edge along the normals (test::kScanEllipsoidNoise).
+    const Mesh ellipsoid = makeEllipsoid(test::kScanEllipsoidLevel, 1.0, 0.7, 0.5);
+    const Mesh needles = test::makeScanLike(ellipsoid, 0.0);
+    const Mesh scan = test::makeScanLike(ellipsoid, test::kScanEllipsoidNoise);
     const TangentFrames cleanFrames(needles), scanFrames(scan);
     const size_t clean = singularitiesOf(cleanFrames).singularities.size();
     const size_t raw = singularitiesOf(scanFrames).singularities.size();
@@ -51,6 +52,7 @@ TEST(ScanNoise, NoisyScanIsJudgedAndItsSmoothedCopyHasTheCleanSingularities) {
     EXPECT_FALSE(fieldIsScanNoise(needles, clean));
     EXPECT_TRUE(fieldIsScanNoise(scan, raw));
     EXPECT_GT(singularityDensity(scan, raw), kScanNoiseDensity);
+    ::testing::Test::RecordProperty("noisy_density", std::to_string(singularityDensity(scan, raw)));
 
     const SmoothedSurface copy = smoothAtScale(scan);
     ASSERT_EQ(copy.mesh->nVertices(), scan.nVertices());
