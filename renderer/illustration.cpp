@@ -68,7 +68,7 @@ void reshadeWithNormalsOf(Illustration &begun, const IllustrationInput &in, cons
         creaseAwareCornerNormals(normalsOf, kCreaseAngleDeg * M_PI / 180.0, normals.get()));
     begun.gbuffer.vertexNormals = std::move(normals);
     computeTargetDensity(begun, in);
-    begun.contourMesh = &normalsOf;
+    begun.shapeMesh = &normalsOf;
     if (!begun.contoursPending)
         begun.contourStrokes = extractContours(normalsOf, *in.camera, *in.scene, begun.gbuffer, in.style.contour,
                                                &begun.contours, /*scanCopy=*/true);
@@ -108,6 +108,8 @@ Illustration beginIllustration(const IllustrationInput &in) {
 
 void finishIllustration(Illustration &out, const IllustrationInput &in) {
     ROSY_CHECK(in.frames && in.field && in.singularities && in.camera);
+    // Shaded from another mesh (a scan's smoothed copy): the field must be on its frames.
+    ROSY_CHECK(!out.shapeMesh || &in.frames->mesh() == out.shapeMesh);
     const Camera &camera = *in.camera;
     // One display over the remaining stages, naming the running one, with the time
     // left estimated from their usual shares (--timings of scenes/bunny.yaml at 2048²);
@@ -159,8 +161,8 @@ void finishIllustration(Illustration &out, const IllustrationInput &in) {
             if (contoursHere) {
                 const auto start = Clock::now();
                 out.contourStrokes =
-                    extractContours(out.contourMesh ? *out.contourMesh : *in.mesh, camera, *in.scene, out.gbuffer,
-                                    in.style.contour, &out.contours, out.contourMesh != nullptr);
+                    extractContours(out.shapeMesh ? *out.shapeMesh : *in.mesh, camera, *in.scene, out.gbuffer,
+                                    in.style.contour, &out.contours, out.shapeMesh != nullptr);
                 contourMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
             }
             if (in.raster) {

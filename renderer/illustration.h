@@ -107,9 +107,11 @@ struct Illustration {
     /// Set by beginIllustration() when IllustrationInput::contoursBesideHatching
     /// left the contours to finishIllustration().
     bool contoursPending = false;
-    /// Set by reshadeWithNormalsOf(): the mesh (same faces as IllustrationInput::mesh)
-    /// whose silhouettes and creases the contours are; null: the input's mesh.
-    const field::Mesh *contourMesh = nullptr;
+    /// Set by reshadeWithNormalsOf(): the mesh (same vertices and faces as
+    /// IllustrationInput::mesh, at other positions: a noisy scan's smoothed copy) the
+    /// shading normals, the tone and the contours' silhouettes and creases were taken
+    /// from; IllustrationInput::frames are then its frames. Null: the input's mesh.
+    const field::Mesh *shapeMesh = nullptr;
     std::vector<std::pair<std::string, double>> timingsMs; ///< gbuffer, tone, screen_field, hatching, contours, raster
     // For the EXR: the camera as OpenEXR's standard attributes (Camera::worldToCamera(),
     // Camera::worldToNdc()) and the ink colour its premultiplied RGB carries.

@@ -166,19 +166,22 @@ Comparison compareScene(const SceneDesc &desc, const CompareSpec &spec, const Pi
             ComparePanel &panel = panels[size_t(k)];
             if (spec.fieldPictures) {
                 std::vector<field::Separatrix> seps;
-                if (spec.separatrices)
-                    seps = field::traceSeparatrices(frames, panel.field, panel.singularities.singularities);
+                if (spec.separatrices) // on a noisy scan, of the field on its smoothed copy
+                    seps = panel.scanCopy ? field::traceSeparatrices(*panel.scanCopy->frames, panel.fieldOnCopy,
+                                                                     panel.singularities.singularities)
+                                          : field::traceSeparatrices(frames, panel.field, panel.singularities.singularities);
                 renderer::FieldPictureOptions fo;
                 fo.lights = scene.lights;
                 panel.picture = renderer::renderFieldPicture(scene.mesh, frames, panel.field, panel.singularities,
                                                              seps, scene.camera, fo);
                 return;
             }
+            std::optional<FieldOnCopy> onCopy;
+            if (panel.scanCopy) onCopy.emplace(FieldOnCopy{*panel.scanCopy, panel.fieldOnCopy});
             // Only the per-stroke counts are printed: not the pairwise measures.
             renderer::Illustration il = finishHatching(view->begun, loaded, panel.field, panel.singularities, *view->rays,
                                                        renderer::HatchMeasure::Counts, true, /*progress=*/false,
-                                                       panel.scanCopy ? panel.scanCopy->frames.get() : nullptr,
-                                                       panel.scanCopy ? &panel.fieldOnCopy : nullptr);
+                                                       onCopy ? &*onCopy : nullptr);
             // The paper's claim (4-RoSy hatching has fewer artifacts than 2-RoSy) in
             // figures: cracks in the cross-hatching and strokes crossing singularities.
             panel.seamFraction = renderer::inspectSeams(renderer::illustrationInkMaps(il, scene.style.hatch)).seamFraction;

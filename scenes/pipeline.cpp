@@ -69,6 +69,14 @@ renderer::IllustrationInput viewInput(const Scene &scene, const renderer::RaySce
 
 } // namespace
 
+std::shared_ptr<const field::SmoothedSurface> LoadedScene::smoothedCopy() const {
+    ROSY_CHECK(frames && copyCache);
+    tbb::collaborative_call_once(copyCache->once, [&] {
+        copyCache->copy = std::make_shared<const field::SmoothedSurface>(field::smoothAtScale(frames->mesh()));
+    });
+    return copyCache->copy;
+}
+
 LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options, StageTimings *timings) {
     LoadedScene loaded;
     loaded.scene = loadSceneObjects(desc, options, timings);
@@ -113,7 +121,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
         out.smoothedSurface = timed("scan_field", timings, options, [&] {
             out.field = {}; // the noise's field and its curvature: not kept beside the copy's
-            auto copy = std::make_shared<field::SmoothedSurface>(field::smoothAtScale(mesh));
+            std::shared_ptr<const field::SmoothedSurface> copy = loaded.smoothedCopy();
             const field::TangentFrames &smooth = *copy->frames;
             field::FieldResult r = field::buildField(smooth, out.spec);
             // Kept on the copy: its singularities are found there, below, then it is carried back.
@@ -123,7 +131,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
             out.smoothedField = r.field;
             r.field = field::carryField(smooth, r.field, frames);
             out.field = std::move(r);
-            return std::shared_ptr<const field::SmoothedSurface>(std::move(copy));
+            return copy;
         });
         warn(mesh.name(), "scan-noise",
              fmt::format("the field on this surface has {} singularities, {:.0f} per ({:g} x diagonal)^2 of surface "
@@ -229,8 +237,8 @@ renderer::Illustration finishHatching(renderer::Illustration begun, const Loaded
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                       renderer::HatchMeasure measure, bool raster, bool progress,
-                                      const field::TangentFrames *copyFrames, const field::RosyField *fieldOnCopy) {
-    ROSY_CHECK((copyFrames == nullptr) == (fieldOnCopy == nullptr));
+                                      const FieldOnCopy *onCopy) {
+    if (onCopy) shadeFromSmoothedCopy(begun, *loaded.scene, rays, onCopy->copy);
     renderer::IllustrationInput in = viewInput(*loaded.scene, rays);
     std::vector<renderer::SurfaceLine> quadLines;
     if (loaded.scene->style.hatch.lines == styles::HatchStyle::Lines::QuadMesh) {
@@ -240,12 +248,8 @@ renderer::Illustration finishHatching(renderer::Illustration begun, const Loaded
         begun.timingsMs.emplace_back(
             "remesh", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
-    in.frames = loaded.frames.get();
-    in.field = &rosyField;
-    if (copyFrames) {
-        in.frames = copyFrames;
-        in.field = fieldOnCopy;
-    }
+    in.frames = onCopy ? onCopy->copy.frames.get() : loaded.frames.get();
+    in.field = onCopy ? &onCopy->field : &rosyField;
     in.singularities = &singularities;
     in.measureHatching = measure;
     in.raster = raster;
@@ -256,13 +260,14 @@ renderer::Illustration finishHatching(renderer::Illustration begun, const Loaded
 
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    renderer::HatchMeasure measure, bool raster) {
+                                    renderer::HatchMeasure measure, bool raster, const FieldOnCopy *onCopy) {
     return finishHatching(beginHatching(*loaded.scene, rays), loaded, rosyField, singularities, rays, measure,
-                          raster);
+                          raster, /*progress=*/true, onCopy);
 }
 
 void shadeFromSmoothedCopy(renderer::Illustration &begun, const Scene &scene, const renderer::RayScene &rays,
                            const field::SmoothedSurface &copy) {
+    if (begun.shapeMesh == copy.mesh.get()) return;
     renderer::reshadeWithNormalsOf(begun, viewInput(scene, rays), *copy.mesh);
 }
 
@@ -338,14 +343,12 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
     if (options.onStage) options.onStage("bvh", view.bvhMs);
     out.rays = std::move(view.rays);
     // A noisy scan's field came from a smoothed copy: so do the tone and the planes
-    // the screen field projects into (renderer::reshadeWithNormalsOf()).
-    if (out.field.smoothedSurface) shadeFromSmoothedCopy(view.begun, *out.loaded.scene, *out.rays, *out.field.smoothedSurface);
+    // the screen field projects into (FieldOnCopy).
+    const std::optional<FieldOnCopy> onCopy = out.field.onCopy();
     out.illustration = finishHatching(std::move(view.begun), out.loaded, out.field.field.field,
                                       out.field.singularities, *out.rays,
                                       options.measureHatching ? renderer::HatchMeasure::All : renderer::HatchMeasure::None,
-                                      options.raster, /*progress=*/true,
-                                      out.field.smoothedSurface ? out.field.smoothedSurface->frames.get() : nullptr,
-                                      out.field.smoothedSurface ? &out.field.smoothedField : nullptr);
+                                      options.raster, /*progress=*/true, onCopy ? &*onCopy : nullptr);
     for (const auto &[stage, ms] : out.illustration->timingsMs) {
         out.timingsMs.emplace_back(stage, ms);
         if (options.onStage) options.onStage(stage, ms);

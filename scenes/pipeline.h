@@ -27,6 +27,7 @@
 #include "scenes/print_units.h"
 #include "scenes/scene.h"
 
+#include <tbb/collaborative_call_once.h>
 #include <tbb/global_control.h>
 
 #include <functional>
@@ -107,6 +108,30 @@ private:
 struct LoadedScene {
     std::unique_ptr<Scene> scene;
     std::unique_ptr<field::TangentFrames> frames; ///< of scene->mesh
+
+    /// scene->mesh smoothed at field::kScanSmoothingRadius, with its frames
+    /// (field::smoothAtScale()): where the fields of a noisy scan are computed
+    /// (buildSceneField()). Built on the first call and shared by every later one —
+    /// compare's panels, the studio's rebuilds — since it depends on the mesh alone;
+    /// concurrent first calls wait for one build (and help it). Needs `frames`.
+    std::shared_ptr<const field::SmoothedSurface> smoothedCopy() const;
+
+    struct CopyCache {
+        tbb::collaborative_once_flag once;
+        std::shared_ptr<const field::SmoothedSurface> copy;
+    };
+    std::shared_ptr<CopyCache> copyCache = std::make_shared<CopyCache>();
+};
+
+/// A noisy scan's field as the view reads it: the smoothed copy it was computed on
+/// (SceneFieldResult::smoothedSurface, field/scan_noise.h) and the field on the copy's
+/// frames (SceneFieldResult::smoothedField, before being carried back). The picture
+/// then takes its shape from the copy: the tone's normals and the contours
+/// (renderer::reshadeWithNormalsOf(), stage "scan_tone") and the face planes the
+/// screen field projects the members into; rays and visibility stay on the scan.
+struct FieldOnCopy {
+    const field::SmoothedSurface &copy;
+    const field::RosyField &field; ///< on *copy.frames
 };
 
 /// One field on a loaded scene, as drawn.
@@ -142,6 +167,12 @@ struct SceneFieldResult {
     }
     /// field.field on fieldFrames(): smoothedField when there is a copy.
     const field::RosyField &fieldOnFieldFrames() const { return smoothedSurface ? smoothedField : field.field; }
+    /// The field on the smoothed copy, for drawHatching() / finishHatching(); empty
+    /// when the field is on the scene's own surface.
+    std::optional<FieldOnCopy> onCopy() const {
+        if (!smoothedSurface) return std::nullopt;
+        return FieldOnCopy{*smoothedSurface, smoothedField};
+    }
 };
 
 /// The field stage of a scene on its own: the loaded scene and its field.
@@ -186,10 +217,11 @@ SceneField buildSceneField(const SceneDesc &desc, const PipelineOptions &options
 
 /// The pen-and-ink drawing of `rosyField` (with its singularities) on a loaded
 /// scene through the scene's camera, lights, shading and style; `rays` must be
-/// built from loaded.scene->mesh.
+/// built from loaded.scene->mesh. `onCopy`: as finishHatching().
 renderer::Illustration drawHatching(const LoadedScene &loaded, const field::RosyField &rosyField,
                                     const field::SingularityReport &singularities, const renderer::RayScene &rays,
-                                    renderer::HatchMeasure measure = renderer::HatchMeasure::All, bool raster = true);
+                                    renderer::HatchMeasure measure = renderer::HatchMeasure::All, bool raster = true,
+                                    const FieldOnCopy *onCopy = nullptr);
 
 /// drawHatching() in two halves, the one path every hatching takes (renderScene(),
 /// compareScene(), drawHatching()): beginHatching() runs what needs no field
@@ -198,23 +230,21 @@ renderer::Illustration drawHatching(const LoadedScene &loaded, const field::Rosy
 /// hatching, raster: renderer::finishIllustration()), on a copy when several fields
 /// share one begun drawing. `progress` off: no terminal display (for panels drawn
 /// side by side). `contoursBesideHatching` moves the contours into finishHatching(),
-/// beside the hatching (for a single drawing). `copyFrames` and `fieldOnCopy`, both
-/// or neither: a noisy scan's smoothed copy (SceneFieldResult::smoothedSurface) and
-/// the field on it, which the screen field then reads (rosyField being the field
-/// carried back), so that the members are taken in the copy's face planes, not the
-/// noise's.
+/// beside the hatching (for a single drawing). `onCopy`: a noisy scan's field on its
+/// smoothed copy (rosyField being the field carried back): the begun drawing is
+/// shaded from the copy first, unless shadeFromSmoothedCopy() did that already (for
+/// panels that share it).
 renderer::Illustration beginHatching(const Scene &scene, const renderer::RayScene &rays,
                                      bool contoursBesideHatching = false);
 renderer::Illustration finishHatching(renderer::Illustration begun, const LoadedScene &loaded,
                                       const field::RosyField &rosyField,
                                       const field::SingularityReport &singularities, const renderer::RayScene &rays,
                                       renderer::HatchMeasure measure = renderer::HatchMeasure::All, bool raster = true,
-                                      bool progress = true, const field::TangentFrames *copyFrames = nullptr,
-                                      const field::RosyField *fieldOnCopy = nullptr);
+                                      bool progress = true, const FieldOnCopy *onCopy = nullptr);
 
 /// A begun hatching's tone and shading normals from a noisy scan's smoothed copy
-/// (SceneFieldResult::smoothedSurface; renderer::reshadeWithNormalsOf(), stage
-/// "scan_tone"): what renderScene() and compareScene() do once the field is judged.
+/// (renderer::reshadeWithNormalsOf(), stage "scan_tone"), once: a drawing already
+/// shaded from `copy` is left as it is.
 void shadeFromSmoothedCopy(renderer::Illustration &begun, const Scene &scene, const renderer::RayScene &rays,
                            const field::SmoothedSurface &copy);
 

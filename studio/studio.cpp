@@ -110,12 +110,36 @@ int elementIndex(const json &j, size_t count) {
 
 /// One state of the design: the scene's `field:` block and the field it gives.
 struct Studio::State {
+    /// The frames the field is designed on: the copy's on a noisy scan, else `own`.
+    const field::TangentFrames &designFrames(const field::TangentFrames &own) const {
+        return copy ? *copy->frames : own;
+    }
+    field::RosyField &designField() { return copy ? fieldOnCopy : field; }
+    const field::RosyField &designField() const { return copy ? fieldOnCopy : field; }
+    /// The singularities of designField(), placed on the scene's surface (`own`'s mesh).
+    field::SingularityReport findSingularities(const field::TangentFrames &own) const {
+        field::SingularityReport r = field::findSingularities(designFrames(own), designField());
+        return copy ? field::placedOn(std::move(r), own.mesh()) : r;
+    }
+    /// On a copy, after designField() changed: `field` carried back to `own`'s vertices.
+    void carryBack(const field::TangentFrames &own) {
+        if (copy) field = field::carryField(*copy->frames, fieldOnCopy, own);
+    }
     scenes::FieldBlock block;
     /// Per edit: where its singularity was when the edit was made (moves made in the
     /// studio; NaN otherwise). After the field below changes, a move is re-aimed at
     /// the first-order singularity nearest to this point, as ids are renumbered.
     std::vector<Vec3> moveFrom;
+    /// On the scene's own vertices (on a noisy scan: carried back from the copy, as
+    /// scenes::SceneFieldResult::field).
     field::RosyField field;
+    /// A noisy scan (field/scan_noise.h): the smoothed copy the field is designed on,
+    /// as the pipeline does (the loaded scene's, shared by all states), and the field
+    /// on its frames. Edits, singularities, separatrices, the shown directions and
+    /// the preview's tone and screen field are then the copy's. Null: the surface's own.
+    std::shared_ptr<const field::SmoothedSurface> copy;
+    field::RosyField fieldOnCopy;
+    /// Placed on the scene's surface (on a scan: the copy's, field::placedOn()).
     field::SingularityReport singularities;
     /// Per element: the unit normal of the face it snaps to (the page turns
     /// directions about it).
@@ -158,8 +182,10 @@ void Studio::rebuild(State &s) const {
     po.applyEdits = false; // applied one by one below, moves re-aimed first
     po.fieldCache = m_fieldCache.get();
     scenes::SceneFieldResult r = scenes::buildSceneField(m_loaded, desc.field, po, &m_timings);
-    const field::TangentFrames &frames = *m_loaded.frames;
-    field::RosyField f = std::move(r.field.field);
+    const bool sameFrames = r.smoothedSurface == s.copy; // the previous field's directions can be kept
+    s.copy = r.smoothedSurface;
+    const field::TangentFrames &frames = s.designFrames(*m_loaded.frames);
+    field::RosyField f = std::move(s.copy ? r.smoothedField : r.field.field);
     t0 = Clock::now();
     for (size_t i = 0; i < s.block.edits.size(); ++i) {
         field::FieldEdit e = desc.field.edits[i];
@@ -188,7 +214,12 @@ void Studio::rebuild(State &s) const {
     m_timings.emplace_back("edits", msSince(t0));
     t0 = Clock::now();
     // Without edits the pipeline's singularities are those of this very field.
-    s.singularities = s.block.edits.empty() ? std::move(r.singularities) : field::findSingularities(frames, f);
+    if (s.block.edits.empty()) {
+        s.singularities = std::move(r.singularities);
+    } else {
+        s.singularities = field::findSingularities(frames, f);
+        if (s.copy) s.singularities = field::placedOn(std::move(s.singularities), m_loaded.scene->mesh);
+    }
     s.elementNormals.clear();
     const std::vector<field::SnappedElement> snaps = m_fieldCache->snapped(desc.field.spec.elements); // as the field's
     for (size_t k = 0; k < snaps.size(); ++k) // direction elements only
@@ -198,11 +229,17 @@ void Studio::rebuild(State &s) const {
     m_timings.emplace_back("singularities", msSince(t0));
     t0 = Clock::now();
     // Directions: only where the field changed from the state `s` was copied from.
-    const field::RosyField previous = std::move(s.field);
-    s.field = std::move(f);
-    updateDirections(frames, m_display.fullVertex, s.field, s.directions,
-                     previous.u.size() == s.field.u.size() ? &previous : nullptr);
+    const field::RosyField previous = std::move(s.designField());
+    s.designField() = std::move(f);
+    updateDirections(frames, m_display.fullVertex, s.designField(), s.directions,
+                     sameFrames && previous.u.size() == s.designField().u.size() ? &previous : nullptr);
     m_timings.emplace_back("directions", msSince(t0));
+    if (!s.copy) s.fieldOnCopy = {};
+    if (s.copy) {
+        t0 = Clock::now();
+        s.carryBack(*m_loaded.frames);
+        m_timings.emplace_back("carry_back", msSince(t0));
+    }
 }
 
 void Studio::push(State next) {
@@ -226,7 +263,7 @@ std::string Studio::edit(const std::string &body) {
     std::lock_guard lock(m_mutex);
     m_timings.clear();
     State next = *m_state;
-    const field::TangentFrames &frames = *m_loaded.frames;
+    const field::TangentFrames &frames = next.designFrames(*m_loaded.frames);
     const auto &sings = m_state->singularities.singularities;
     auto singularity = [&](const char *key) {
         const int id = integer(j, key);
@@ -321,14 +358,19 @@ std::string Studio::edit(const std::string &body) {
         if (next.block.edits.size() > kMaxEdits) bad("too many edits", "at most 1000");
         // The same as rebuild() would do: the new edit applied to the current field.
         auto t0 = Clock::now();
-        field::applyFieldEdits(frames, next.field, {next.block.edits.back()});
+        field::applyFieldEdits(frames, next.designField(), {next.block.edits.back()});
         m_timings.emplace_back("edits", msSince(t0));
         t0 = Clock::now();
-        next.singularities = field::findSingularities(frames, next.field);
+        next.singularities = next.findSingularities(*m_loaded.frames);
         m_timings.emplace_back("singularities", msSince(t0));
         t0 = Clock::now();
-        updateDirections(frames, m_display.fullVertex, next.field, next.directions, &m_state->field);
+        updateDirections(frames, m_display.fullVertex, next.designField(), next.directions, &m_state->designField());
         m_timings.emplace_back("directions", msSince(t0));
+        if (next.copy) {
+            t0 = Clock::now();
+            next.carryBack(*m_loaded.frames);
+            m_timings.emplace_back("carry_back", msSince(t0));
+        }
     } else {
         rebuild(next);
     }
@@ -560,8 +602,9 @@ std::string Studio::singularitiesJson() const {
 
 std::string Studio::separatricesJson() const {
     std::lock_guard lock(m_mutex);
-    const auto seps =
-        field::traceSeparatrices(*m_loaded.frames, m_state->field, m_state->singularities.singularities);
+    // On a noisy scan they lie on the smoothed copy the field is designed on.
+    const auto seps = field::traceSeparatrices(m_state->designFrames(*m_loaded.frames), m_state->designField(),
+                                               m_state->singularities.singularities);
     json list = json::array();
     for (const field::Separatrix &s : seps) {
         json pts = json::array();
@@ -587,13 +630,16 @@ std::string Studio::sceneText() const {
 
 std::string Studio::previewPng(int maxSide, bool original) {
     const std::array<int, 2> size = previewResolution(maxSide);
-    field::RosyField f;
+    field::RosyField f, fOnCopy;
     field::SingularityReport sings;
+    std::shared_ptr<const field::SmoothedSurface> copy;
     {
         std::lock_guard lock(m_mutex);
         const State &s = original ? *m_original : *m_state;
         f = s.field;
         sings = s.singularities;
+        copy = s.copy;
+        fOnCopy = s.fieldOnCopy;
     }
     std::lock_guard lock(m_previewMutex);
     if (size != m_previewSize) {
@@ -610,7 +656,12 @@ std::string Studio::previewPng(int maxSide, bool original) {
         m_previewRays = std::make_unique<renderer::RayScene>(m_previewLoaded.scene->mesh);
         m_previewSize = size;
     }
-    const renderer::Illustration il = scenes::drawHatching(m_previewLoaded, f, sings, *m_previewRays, renderer::HatchMeasure::None);
+    // On a noisy scan, shaded and projected from the copy as `render` does (the
+    // preview's scene is the same file, so the same vertices and faces).
+    std::optional<scenes::FieldOnCopy> onCopy;
+    if (copy) onCopy.emplace(scenes::FieldOnCopy{*copy, fOnCopy});
+    const renderer::Illustration il = scenes::drawHatching(m_previewLoaded, f, sings, *m_previewRays,
+                                                           renderer::HatchMeasure::None, true, onCopy ? &*onCopy : nullptr);
     // The PNG exactly as `render -o x.png` writes it: through writeImage, into a
     // private temporary folder, read back.
     std::string dirTemplate = (std::filesystem::temp_directory_path() / "rosyhatch-studio-XXXXXX").string();

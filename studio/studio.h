@@ -99,11 +99,14 @@ public:
     std::string save(const std::string &name);
     /// The scene text the current state would save.
     std::string sceneText() const;
-    /// The current field (after the edits), as the pipeline built it.
+    /// The current field (after the edits), as the pipeline built it, on the scene's own
+    /// vertices (on a noisy scan carried back from the smoothed copy).
     field::RosyField field() const;
     /// Milliseconds per step of the last edit(), in order: parse (the scene text
     /// with the new `field:` block), the pipeline's field and singularities stages,
-    /// edits (applied again after a rebuild), singularities, directions, response.
+    /// edits (applied again after a rebuild), singularities, directions, on a noisy
+    /// scan carry_back (the field designed on its smoothed copy carried back to the
+    /// scan's vertices), response.
     scenes::StageTimings lastEditTimings() const;
 
 private:
