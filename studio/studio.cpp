@@ -186,6 +186,7 @@ void Studio::rebuild(State &s) const {
     s.copy = r.smoothedSurface;
     const field::TangentFrames &frames = s.designFrames(*m_loaded.frames);
     field::RosyField f = std::move(s.copy ? r.smoothedField : r.field.field);
+    if (s.copy && m_copyNormalBytes.empty()) m_copyNormalBytes = normalBytes(frames, m_display.fullVertex);
     t0 = Clock::now();
     for (size_t i = 0; i < s.block.edits.size(); ++i) {
         field::FieldEdit e = desc.field.edits[i];
@@ -552,7 +553,7 @@ std::string Studio::editResponse() const {
     std::string out = "RSE1";
     putU32(out, uint32_t(state.size()));
     out += state;
-    out += fieldBytes(m_state->field, m_state->directions, m_normalBytes);
+    out += fieldBytes(m_state->field, m_state->directions, m_state->copy ? m_copyNormalBytes : m_normalBytes);
     return out;
 }
 
@@ -592,7 +593,7 @@ std::string Studio::pick(const Vec3 &origin, const Vec3 &direction) {
 
 std::string Studio::fieldBinary() const {
     std::lock_guard lock(m_mutex);
-    return fieldBytes(m_state->field, m_state->directions, m_normalBytes);
+    return fieldBytes(m_state->field, m_state->directions, m_state->copy ? m_copyNormalBytes : m_normalBytes);
 }
 
 std::string Studio::singularitiesJson() const {

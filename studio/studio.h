@@ -127,6 +127,9 @@ private:
     DisplayMesh m_display;
     std::string m_meshBytes;   ///< meshBinary(): the display mesh never changes
     std::string m_normalBytes; ///< the field response's constant half: f32 display vertex normals
+    /// The same of a noisy scan's smoothed copy, whose tangent planes the directions
+    /// then lie in (made by rebuild() the first time a state is designed on it).
+    mutable std::string m_copyNormalBytes;
     // pick(): the full mesh's ray scene, built on a thread at load for a decimated mesh
     // (else on the first pick).
     std::mutex m_pickMutex;

@@ -657,6 +657,19 @@ TEST(StudioScan, NoisyScanIsDesignedOnTheSmoothedCopyAndPreviewsAsRenderDraws) {
     EXPECT_LT(nearest, 0.05);
     const json seps = json::parse(studio.separatricesJson());
     EXPECT_LE(seps["separatrices"].size(), 8 * s1["singularities"].size());
+    // The directions sent lie in the copy's tangent planes, and so do the normals sent
+    // with them (the page turns the arms about them): the scan's own are off by the noise.
+    const std::string fieldBin = studio.fieldBinary();
+    ASSERT_EQ(fieldBin.compare(0, 4, "RSF1"), 0);
+    const uint32_t nV = u32(fieldBin, 4);
+    ASSERT_EQ(fieldBin.size(), 16 + 24 * size_t(nV));
+    double worst = 0;
+    for (uint32_t v = 0; v < nV; ++v) {
+        double dot = 0;
+        for (int c = 0; c < 3; ++c) dot += f32(fieldBin, 16 + 12 * v + 4 * c) * f32(fieldBin, 16 + 12 * (nV + v) + 4 * c);
+        worst = std::max(worst, std::abs(dot));
+    }
+    EXPECT_LT(worst, 1e-5);
 
     // The saved scene's render is the preview, byte for byte (its tone is the copy's).
     const std::string preview = studio.previewPng(128);
