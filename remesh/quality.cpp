@@ -214,6 +214,50 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     q.cornersNearSingularities = int(devNear.size());
     q.angleDevNearSingMedianDeg = percentile(devNear, 0.5);
     q.angleDevNearSingP90Deg = percentile(devNear, 0.9);
+    {
+        // Two rings of faces around each singularity's singular vertex.
+        std::vector<std::vector<int>> facesAt(static_cast<size_t>(nP));
+        for (size_t f = 0; f < polygons.size(); ++f)
+            for (int v : polygons[f]) facesAt[size_t(v)].push_back(int(f));
+        const int want = field.nSym == 6 ? 6 : 4;
+        std::vector<char> faceTaken(polygons.size(), 0), singularVertex(static_cast<size_t>(nP), 0);
+        std::vector<double> devRings;
+        for (const Vec3 &s : sing) {
+            int best = -1, bestIrregular = -1;
+            double bestD = std::numeric_limits<double>::infinity(), bestIrregularD = bestD;
+            for (int v = 0; v < nP; ++v) {
+                if (!usedVertex[size_t(v)]) continue;
+                const double d = (positions[size_t(v)] - s).norm();
+                if (d < bestD) bestD = d, best = v;
+                if (!onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != want && d <= 2 * edgeLength &&
+                    d < bestIrregularD)
+                    bestIrregularD = d, bestIrregular = v;
+            }
+            const int sv = bestIrregular >= 0 ? bestIrregular : best;
+            if (sv < 0) continue;
+            singularVertex[size_t(sv)] = 1;
+            std::vector<int> ring = nbrs[size_t(sv)];
+            ring.push_back(sv);
+            for (int v : ring)
+                for (int f : facesAt[size_t(v)]) faceTaken[size_t(f)] = 1;
+        }
+        for (size_t f = 0; f < polygons.size(); ++f) {
+            if (!faceTaken[f]) continue;
+            const auto &poly = polygons[f];
+            const int k = int(poly.size());
+            for (int i = 0; i < k; ++i) {
+                const int v = poly[size_t(i)];
+                const Vec3 &p = positions[size_t(v)];
+                const double a = angleDeg(positions[size_t(poly[size_t((i + k - 1) % k)])] - p,
+                                          positions[size_t(poly[size_t((i + 1) % k)])] - p);
+                const bool cone = singularVertex[size_t(v)] && !nbrs[size_t(v)].empty();
+                devRings.push_back(std::abs(a - (cone ? 360.0 / double(nbrs[size_t(v)].size()) : targetAngle)));
+            }
+        }
+        q.cornersInSingularRings = int(devRings.size());
+        q.angleDevSingularRingsMedianDeg = percentile(devRings, 0.5);
+        q.angleDevSingularRingsP90Deg = percentile(devRings, 0.9);
+    }
 
     // --- edge lengths and alignment with the field (each edge on its own in
     // parallel, gathered in edge order: the same numbers for any thread count)
@@ -405,6 +449,9 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.field("near_singularities_corners", q.cornersNearSingularities);
     json.field("near_singularities_median", q.angleDevNearSingMedianDeg);
     json.field("near_singularities_p90", q.angleDevNearSingP90Deg);
+    json.field("singular_rings_corners", q.cornersInSingularRings);
+    json.field("singular_rings_median", q.angleDevSingularRingsMedianDeg);
+    json.field("singular_rings_p90", q.angleDevSingularRingsP90Deg);
     json.endObject();
     json.key("edge_length").beginObject();
     json.field("mean", q.edgeLengthMean).field("mean_over_L", q.edgeLength > 0 ? q.edgeLengthMean / q.edgeLength : 0);

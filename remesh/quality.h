@@ -67,6 +67,13 @@ struct QualityReport {
     double angleDevMedianDeg = 0, angleDevP90Deg = 0;       ///< corners vs 90° (60°)
     double angleDevNearSingMedianDeg = 0, angleDevNearSingP90Deg = 0; ///< corners within 2 L of a singularity
     int cornersNearSingularities = 0;
+    /// The measure around each singularity of index ±1/N: its singular vertex
+    /// (the nearest interior irregular vertex within 2 L, else the nearest vertex), the
+    /// corners of every face touching that vertex or a neighbour of it (two rings of
+    /// faces), each counted once; deviation from 360°/valence at the singular vertex
+    /// itself (what a cone vertex of that valence can have), from 90° (60°) elsewhere.
+    double angleDevSingularRingsMedianDeg = 0, angleDevSingularRingsP90Deg = 0;
+    int cornersInSingularRings = 0;
     double edgeLengthMean = 0, edgeLengthCv = 0;
     double alignmentMedianDeg = 0, alignmentP90Deg = 0; ///< edges vs nearest field member
     double distanceOutToInPct = 0, distanceInToOutPct = 0; ///< one-sided Hausdorff, % of diagonal

@@ -111,6 +111,11 @@ TEST(Fig4Remesh, SingularitiesAtCornersAndJointAndBothMeshesValid) {
     // separatrices; it is NOT met (docs/remeshing.md, "Figure 4"), so not asserted.
     RecordProperty("near_singularities_p90_off", std::to_string(off.angleDevNearSingP90Deg));
     RecordProperty("near_singularities_p90_on", std::to_string(on.angleDevNearSingP90Deg));
+    // The same in the issue's own terms (two rings of faces around each singular
+    // vertex, cones against 360° / valence: QualityReport::angleDevSingularRings*),
+    // measured 13.2° off and 16.9° on at this length.
+    RecordProperty("singular_rings_p90_off", std::to_string(off.angleDevSingularRingsP90Deg));
+    RecordProperty("singular_rings_p90_on", std::to_string(on.angleDevSingularRingsP90Deg));
 }
 
 } // namespace

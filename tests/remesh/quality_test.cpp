@@ -114,6 +114,36 @@ TEST(Quality, CubeOfSixQuadsIsClosedManifoldAndSquare) {
     EXPECT_GE(q.alignmentP90Deg, 0.0);
 }
 
+TEST(Quality, SingularRingsMeasureConesAgainstTheirOwnAngle) {
+    // The measure near singularities: a singularity at a cube corner makes that
+    // valence-3 corner its singular vertex, whose two rings of faces are all six; its
+    // three corners (90°) are measured against 360° / 3, the other 21 against 90°.
+    Fixture fx;
+    field::Singularity corner;
+    corner.position = Vec3(1, 1, 1); // vertex 7
+    corner.indexNumerator = 1;
+    fx.sing.singularities.push_back(corner);
+    const QualityReport one = measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_EQ(one.cornersInSingularRings, 24);
+    EXPECT_NEAR(one.angleDevSingularRingsMedianDeg, 0.0, 1e-9);
+    // Nearest rank: the 22nd of 24 sorted deviations (21 of 0°, then 3 of 30°).
+    EXPECT_NEAR(one.angleDevSingularRingsP90Deg, 30.0, 1e-9);
+    // The measure against 90° throughout: every corner of the cube is square.
+    EXPECT_NEAR(one.angleDevNearSingP90Deg, 0.0, 1e-9);
+    // A second one at the opposite corner (vertex 0): its corners count as a cone too,
+    // though its faces were taken by the first; each corner once.
+    corner.position = Vec3(-1, -1, -1);
+    fx.sing.singularities.push_back(corner);
+    const QualityReport two = measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0);
+    EXPECT_EQ(two.cornersInSingularRings, 24);
+    EXPECT_NEAR(two.angleDevSingularRingsMedianDeg, 0.0, 1e-9);
+    EXPECT_NEAR(two.angleDevSingularRingsP90Deg, 30.0, 1e-9);
+    // A minus-one singularity counts the same way (its index sets no target).
+    fx.sing.singularities.resize(1);
+    fx.sing.singularities[0].indexNumerator = -1;
+    EXPECT_EQ(measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0).cornersInSingularRings, 24);
+}
+
 TEST(Quality, FlippedFaceIsInconsistentAndFlipped) {
     Fixture fx;
     auto quads = cubeQuads();
