@@ -334,11 +334,15 @@ void runField(const FieldOptions &opt) {
     const field::SingularityReport &report = built.field.singularities;
     const std::vector<field::Separatrix> &separatrices = built.field.separatrices;
     const std::vector<scenes::AppliedEdit> &applied = built.field.edits;
-    // Stage milliseconds: the pipeline's, with the field builder's own parts after "field".
+    // Stage milliseconds: the pipeline's, with the field builder's own parts after the
+    // stage that built the field kept: "field", or on a noisy scan "scan_field" (then
+    // with the copy's smoothing first).
     std::vector<std::pair<std::string, double>> ms;
+    const bool onCopy = built.field.smoothedSurface != nullptr;
     for (const auto &[stage, t] : built.timingsMs) {
         ms.emplace_back(stage, t);
-        if (stage == "field")
+        if (onCopy && stage == "scan_field") ms.emplace_back("scan_smoothing", built.field.smoothingMs);
+        if (stage == (onCopy ? "scan_field" : "field"))
             for (const auto &[part, tp] : result.timingsMs) ms.emplace_back(part, tp);
     }
     // Pictures through the scene's camera.

@@ -121,7 +121,10 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
         out.smoothedSurface = timed("scan_field", timings, options, [&] {
             out.field = {}; // the noise's field and its curvature: not kept beside the copy's
+            const auto smoothingStart = std::chrono::steady_clock::now();
             std::shared_ptr<const field::SmoothedSurface> copy = loaded.smoothedCopy();
+            out.smoothingMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                                        smoothingStart).count();
             const field::TangentFrames &smooth = *copy->frames;
             field::FieldResult r = field::buildField(smooth, out.spec);
             // Kept on the copy: its singularities are found there, below, then it is carried back.

@@ -158,6 +158,9 @@ struct SceneFieldResult {
     /// surface had, and their density (field::singularityDensity()).
     size_t noisySingularities = 0;
     double noisyDensity = 0;
+    /// With smoothedSurface: milliseconds of the "scan_field" stage spent smoothing the
+    /// copy and building its frames (0 when the loaded scene had made it already).
+    double smoothingMs = 0;
     /// With smoothedSurface: field.field as it is on the copy (before being carried back).
     field::RosyField smoothedField;
     /// The frames the singularities and separatrices belong to: the smoothed copy's

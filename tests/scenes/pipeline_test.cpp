@@ -439,6 +439,7 @@ TEST(RenderScene, NoisyScanGetsTheFieldToneAndHatchingOfItsSmoothedCopy) {
     EXPECT_EQ(scan.field.field.field.u.size(), size_t(mesh.nVertices()));
     EXPECT_EQ(&scan.field.fieldFrames(*scan.loaded.frames), scan.field.smoothedSurface->frames.get());
     EXPECT_EQ(scan.field.smoothedSurface.get(), scan.loaded.smoothedCopy().get()); // the loaded scene's, built once
+    EXPECT_GT(scan.field.smoothingMs, 0.0); // made here, so timed here (field --timings' scan_smoothing)
     EXPECT_LE(scan.field.singularities.singularities.size(), 2 * cleanCount + 4);
     EXPECT_EQ(scan.field.singularities.indexNumeratorSum, 4 * 2); // N χ
     for (const field::Singularity &s : scan.field.singularities.singularities) {
