@@ -121,10 +121,6 @@ struct Studio::State {
         field::SingularityReport r = field::findSingularities(designFrames(own), designField());
         return copy ? field::placedOn(std::move(r), own.mesh()) : r;
     }
-    /// On a copy, after designField() changed: `field` carried back to `own`'s vertices.
-    void carryBack(const field::TangentFrames &own) {
-        if (copy) field = field::carryField(*copy->frames, fieldOnCopy, own);
-    }
     scenes::FieldBlock block;
     /// Per edit: where its singularity was when the edit was made (moves made in the
     /// studio; NaN otherwise). After the field below changes, a move is re-aimed at
@@ -214,13 +210,12 @@ void Studio::rebuild(State &s) const {
     }
     m_timings.emplace_back("edits", msSince(t0));
     t0 = Clock::now();
+    // The field kept (the previous one for the directions below).
+    const field::RosyField previous = std::move(s.designField());
+    s.designField() = std::move(f);
+    if (!s.copy) s.fieldOnCopy = {};
     // Without edits the pipeline's singularities are those of this very field.
-    if (s.block.edits.empty()) {
-        s.singularities = std::move(r.singularities);
-    } else {
-        s.singularities = field::findSingularities(frames, f);
-        if (s.copy) s.singularities = field::placedOn(std::move(s.singularities), m_loaded.scene->mesh);
-    }
+    s.singularities = s.block.edits.empty() ? std::move(r.singularities) : s.findSingularities(*m_loaded.frames);
     s.elementNormals.clear();
     const std::vector<field::SnappedElement> snaps = m_fieldCache->snapped(desc.field.spec.elements); // as the field's
     for (size_t k = 0; k < snaps.size(); ++k) // direction elements only
@@ -230,17 +225,17 @@ void Studio::rebuild(State &s) const {
     m_timings.emplace_back("singularities", msSince(t0));
     t0 = Clock::now();
     // Directions: only where the field changed from the state `s` was copied from.
-    const field::RosyField previous = std::move(s.designField());
-    s.designField() = std::move(f);
     updateDirections(frames, m_display.fullVertex, s.designField(), s.directions,
                      sameFrames && previous.u.size() == s.designField().u.size() ? &previous : nullptr);
     m_timings.emplace_back("directions", msSince(t0));
-    if (!s.copy) s.fieldOnCopy = {};
-    if (s.copy) {
-        t0 = Clock::now();
-        s.carryBack(*m_loaded.frames);
-        m_timings.emplace_back("carry_back", msSince(t0));
-    }
+    carryBack(s);
+}
+
+void Studio::carryBack(State &s) const {
+    if (!s.copy) return;
+    const auto t0 = Clock::now();
+    s.field = field::carryField(*s.copy->frames, s.fieldOnCopy, *m_loaded.frames);
+    m_timings.emplace_back("carry_back", msSince(t0));
 }
 
 void Studio::push(State next) {
@@ -367,11 +362,7 @@ std::string Studio::edit(const std::string &body) {
         t0 = Clock::now();
         updateDirections(frames, m_display.fullVertex, next.designField(), next.directions, &m_state->designField());
         m_timings.emplace_back("directions", msSince(t0));
-        if (next.copy) {
-            t0 = Clock::now();
-            next.carryBack(*m_loaded.frames);
-            m_timings.emplace_back("carry_back", msSince(t0));
-        }
+        carryBack(next);
     } else {
         rebuild(next);
     }

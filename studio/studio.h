@@ -115,6 +115,9 @@ private:
     std::string stateJsonLocked() const; ///< with m_mutex held
     /// Builds `state`'s field from its block (the pipeline, then its edits one by one).
     void rebuild(State &state) const;
+    /// On a noisy scan, after the state's field on the copy changed: State::field
+    /// carried back to the scene's vertices (timed as "carry_back").
+    void carryBack(State &state) const;
     void push(State next);
 
     std::string m_path;
