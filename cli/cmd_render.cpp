@@ -167,6 +167,21 @@ void runRender(const RenderOptions &opt) {
     preparing.emplace("preparing", std::move(beforeStages));
     pipeline.onStage = [&](const std::string &stage, double) {
         if (!preparing) return;
+        if (stage == "scan_noise") {
+            // A noisy scan: its field again on the smoothed copy (seconds to minutes on
+            // millions of faces), named before the stages after the singularities.
+            std::vector<std::pair<std::string, ProgressStage>> rest = {{"scan_field", {"scan field", 150}}};
+            bool after = false;
+            for (const auto &b : before) {
+                if (after) rest.push_back(b);
+                after = after || b.first == "singularities";
+            }
+            before = std::move(rest);
+            std::vector<ProgressStage> stages;
+            for (const auto &b : before) stages.push_back(b.second);
+            preparing.emplace("preparing", std::move(stages));
+            return;
+        }
         for (size_t i = 0; i < before.size(); ++i)
             if (before[i].first == stage) {
                 if (i + 1 < before.size()) preparing->beginStage(i + 1);

@@ -119,6 +119,7 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     if (noisy) {
         // Everything again on the smoothed copy; the scene's frames get the field carried back.
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
+        if (options.onStage) options.onStage("scan_noise", 0.0);
         out.smoothedSurface = timed("scan_field", timings, options, [&] {
             out.field = {}; // the noise's field and its curvature: not kept beside the copy's
             const auto smoothingStart = std::chrono::steady_clock::now();

@@ -71,6 +71,9 @@ struct PipelineOptions {
     /// memory check). Counted in the "load" stage's time.
     std::function<void(Scene &)> afterLoad;
     /// Called as each stage ends with its name and milliseconds (progress, live timings).
+    /// Also called once with ("scan_noise", 0) when the field is judged a noisy scan's,
+    /// before the "scan_field" stage starts (a long one on large scans), which is
+    /// recorded in no timings: a progress display can then name it.
     std::function<void(const std::string &stage, double ms)> onStage;
     /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
     /// singularities; about a sixth of the hatching stage). Only reports read it.
