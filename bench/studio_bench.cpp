@@ -130,7 +130,9 @@ int main(int argc, char **argv) {
 
     // The library alone (yardsticks) and the studio, in process and through HTTP.
     rosy::scenes::SceneField sf = rosy::scenes::buildSceneField(desc);
-    const auto &frames = *sf.loaded.frames;
+    // On a noisy scan the field is designed on the smoothed copy (field/scan_noise.h):
+    // the yardstick edits it there, as the studio does.
+    const auto &frames = sf.field.fieldFrames(*sf.loaded.frames);
     const auto pair = closestPair(sf.field.singularities.singularities);
     require(pair.first >= 0, "finding an opposite pair");
     rosy::studio::Studio st(scenePath);
@@ -150,7 +152,7 @@ int main(int argc, char **argv) {
 
     const std::vector<double> edits = interleaved(
         repeats, {{[&] {
-                       rosy::field::RosyField f = sf.field.field.field;
+                       rosy::field::RosyField f = sf.field.fieldOnFieldFrames();
                        rosy::field::FieldEdit e;
                        e.op = rosy::field::FieldEdit::Op::CancelNear; // as the studio saves it
                        e.p = sf.field.singularities.singularities[pair.first].position;

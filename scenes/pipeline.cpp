@@ -95,21 +95,27 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     std::optional<field::RosyField> unedited;
     // Whether the field on the surface itself is scan noise (field/scan_noise.h),
     // judged on the field before any edits: their ids name the singularities the
-    // user saw, which on a noisy scan are the smoothed copy's.
+    // user saw, which on a noisy scan are the smoothed copy's. An earlier judgement of
+    // this loaded scene may stand for it (PipelineOptions::judgedNoisy).
     bool noisy = false;
-    out.field = timed("field", timings, options, [&] {
-        field::FieldResult r = field::buildField(frames, out.spec, options.fieldCache);
-        if (editing) {
-            const size_t n = field::findSingularities(frames, r.field).singularities.size();
-            if ((noisy = field::fieldIsScanNoise(mesh, n))) {
-                out.noisySingularities = n;
-                return r;
+    if (options.judgedNoisy) {
+        noisy = true;
+        out.noisySingularities = *options.judgedNoisy;
+    } else {
+        out.field = timed("field", timings, options, [&] {
+            field::FieldResult r = field::buildField(frames, out.spec, options.fieldCache);
+            if (editing) {
+                const size_t n = field::findSingularities(frames, r.field).singularities.size();
+                if ((noisy = field::fieldIsScanNoise(mesh, n))) {
+                    out.noisySingularities = n;
+                    return r;
+                }
+                if (options.keepUnedited) unedited = r.field;
+                out.edits = field::applyFieldEdits(frames, r.field, fieldDesc.edits);
             }
-            if (options.keepUnedited) unedited = r.field;
-            out.edits = field::applyFieldEdits(frames, r.field, fieldDesc.edits);
-        }
-        return r;
-    });
+            return r;
+        });
+    }
     if (!noisy) {
         out.singularities = timed("singularities", timings, options,
                                   [&] { return field::findSingularities(frames, out.field.field); });

@@ -66,6 +66,13 @@ struct PipelineOptions {
     /// derives from the mesh alone (field::FieldCache; must be for the loaded
     /// scene's frames). The field is the same to the bit with or without it.
     field::FieldCache *fieldCache = nullptr;
+    /// Kept between calls on one loaded scene (the studio's rebuilds): the number of
+    /// singularities of an earlier field on the scene's own surface that was judged a
+    /// noisy scan's by a wide margin (noiseJudgementCarries()), for a field spec that
+    /// differs from this one at most in its design elements. The field on the surface
+    /// itself is then not built again (on a 568k-face scan the larger half of a
+    /// rebuild): it goes to the smoothed copy straight away. Unset: judged as usual.
+    std::optional<size_t> judgedNoisy;
     /// Runs right after the scene is built, before any field work: may change the
     /// scene (a benchmark subdivides the mesh) or refuse it by throwing (the CLI's
     /// memory check). Counted in the "load" stage's time.
@@ -180,6 +187,21 @@ struct SceneFieldResult {
         return FieldOnCopy{*smoothedSurface, smoothedField};
     }
 };
+
+/// How far above field::kScanNoiseDensity a judgement must be to carry over to
+/// fields that differ only in their design elements (PipelineOptions::judgedNoisy):
+/// the noise's singularities come from the surface's connection turning at random
+/// around single faces, which no element changes; a handful of elements moves the
+/// count by a few singularities, not by half (StudioScan test). Near the threshold
+/// every field is judged anew.
+constexpr double kCarriedNoiseMargin = 2.0;
+
+/// Whether `r` was judged a noisy scan's by kCarriedNoiseMargin or more, so that
+/// PipelineOptions::judgedNoisy may carry its judgement (r.noisySingularities) to a
+/// field of the same loaded scene and spec but its design elements.
+inline bool noiseJudgementCarries(const SceneFieldResult &r) {
+    return r.smoothedSurface && r.noisyDensity >= kCarriedNoiseMargin * field::kScanNoiseDensity;
+}
 
 /// The field stage of a scene on its own: the loaded scene and its field.
 struct SceneField {

@@ -177,7 +177,14 @@ void Studio::rebuild(State &s) const {
     po.load = m_options.load;
     po.applyEdits = false; // applied one by one below, moves re-aimed first
     po.fieldCache = m_fieldCache.get();
+    scenes::FieldBlock judged = s.block; // what the judgement depends on
+    judged.elements.clear();
+    judged.edits.clear();
+    const std::string judgedBlock = scenes::fieldBlockYaml(judged);
+    if (m_noiseJudgement && m_noiseJudgement->block == judgedBlock) po.judgedNoisy = m_noiseJudgement->singularities;
     scenes::SceneFieldResult r = scenes::buildSceneField(m_loaded, desc.field, po, &m_timings);
+    if (!po.judgedNoisy && scenes::noiseJudgementCarries(r))
+        m_noiseJudgement = NoiseJudgement{judgedBlock, r.noisySingularities};
     const bool sameFrames = r.smoothedSurface == s.copy; // the previous field's directions can be kept
     s.copy = r.smoothedSurface;
     const field::TangentFrames &frames = s.designFrames(*m_loaded.frames);

@@ -21,6 +21,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -103,7 +104,9 @@ public:
     /// vertices (on a noisy scan carried back from the smoothed copy).
     field::RosyField field() const;
     /// Milliseconds per step of the last edit(), in order: parse (the scene text
-    /// with the new `field:` block), the pipeline's field and singularities stages,
+    /// with the new `field:` block), the pipeline's field and singularities stages
+    /// (on a noisy scan its scan_field, the field and singularities on the smoothed
+    /// copy, after them or, once the scan was judged, instead of them),
     /// edits (applied again after a rebuild), singularities, directions, on a noisy
     /// scan carry_back (the field designed on its smoothed copy carried back to the
     /// scan's vertices), response.
@@ -133,6 +136,16 @@ private:
     /// The same of a noisy scan's smoothed copy, whose tangent planes the directions
     /// then lie in (made by rebuild() the first time a state is designed on it).
     mutable std::string m_copyNormalBytes;
+    /// A noisy scan's judgement that carries to fields differing only in their design
+    /// elements (scenes::noiseJudgementCarries()): the `field:` block it was made for,
+    /// as YAML without elements and edits, and the singularities judged. Set by
+    /// rebuild(); an element added, moved or deleted then skips the field on the scan
+    /// itself (scenes::PipelineOptions::judgedNoisy), any other change judges again.
+    struct NoiseJudgement {
+        std::string block;
+        size_t singularities = 0;
+    };
+    mutable std::optional<NoiseJudgement> m_noiseJudgement;
     // pick(): the full mesh's ray scene, built on a thread at load for a decimated mesh
     // (else on the first pick).
     std::mutex m_pickMutex;
