@@ -225,7 +225,6 @@ void runRemesh(const RemeshCliOptions &opt) {
         scene.mesh = remesh::refineCoarseInput(scene.mesh, edgeLength, opt.common.maxFaces, &*refinement);
     };
     if (!opt.common.quiet) popt.onStage = [](const std::string &stage, double ms) {
-        if (stage == "scan_noise") return; // an announcement, not a stage (the warning says it)
         std::fprintf(stderr, "  %s %.0f ms\n", stage.c_str(), ms);
     };
     scenes::SceneField sf = scenes::buildSceneField(desc, popt);

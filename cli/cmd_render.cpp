@@ -165,29 +165,28 @@ void runRender(const RenderOptions &opt) {
     for (const auto &b : before) beforeStages.push_back(b.second);
     std::optional<Progress> preparing;
     preparing.emplace("preparing", std::move(beforeStages));
-    pipeline.onStage = [&](const std::string &stage, double) {
-        if (!preparing) return;
-        if (stage == "scan_noise") {
-            // A noisy scan: its field again on the smoothed copy (seconds to minutes on
-            // millions of faces), named before the stages after the singularities.
-            std::vector<std::pair<std::string, ProgressStage>> rest = {{"scan_field", {"scan field", 150}}};
-            bool after = false;
-            for (const auto &b : before) {
-                if (after) rest.push_back(b);
-                after = after || b.first == "singularities";
-            }
-            before = std::move(rest);
-            std::vector<ProgressStage> stages;
-            for (const auto &b : before) stages.push_back(b.second);
-            preparing.emplace("preparing", std::move(stages));
-            return;
-        }
+    // A stage is shown as it starts (one that only some scenes have, scan_field, is put
+    // in then); the last one's end hands over to the drawing's own display.
+    auto indexOf = [&](const std::string &stage) {
         for (size_t i = 0; i < before.size(); ++i)
-            if (before[i].first == stage) {
-                if (i + 1 < before.size()) preparing->beginStage(i + 1);
-                else preparing.reset(); // the drawing's own display takes over
-                return;
-            }
+            if (before[i].first == stage) return i;
+        return before.size();
+    };
+    pipeline.onStageStart = [&](const std::string &stage) {
+        if (!preparing) return;
+        size_t i = indexOf(stage);
+        if (stage == "scan_field" && i == before.size()) {
+            // A noisy scan: its field again on the smoothed copy (seconds to minutes on
+            // millions of faces), after the singularities of the field on the scan itself.
+            i = std::min(indexOf("singularities") + 1, before.size());
+            const ProgressStage shown{"scan field", 150};
+            before.insert(before.begin() + std::ptrdiff_t(i), {stage, shown});
+            preparing->insertStage(i, shown);
+        }
+        if (i < before.size()) preparing->beginStage(i);
+    };
+    pipeline.onStage = [&](const std::string &stage, double) {
+        if (preparing && indexOf(stage) + 1 == before.size()) preparing.reset();
     };
     const scenes::RenderResult result = scenes::renderScene(desc, pipeline);
     preparing.reset();

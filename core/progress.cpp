@@ -75,6 +75,14 @@ void Progress::beginStage(size_t index) {
     if (show) drawStaged(false);
 }
 
+void Progress::insertStage(size_t index, ProgressStage stage) {
+    std::lock_guard<std::mutex> lock(m_drawMutex);
+    if (m_stages.empty()) return; // counted work
+    index = std::min(index, m_stages.size());
+    m_stages.insert(m_stages.begin() + std::ptrdiff_t(index), std::move(stage));
+    if (index <= m_stage) ++m_stage;
+}
+
 void Progress::tick() {
     std::unique_lock<std::mutex> lock(m_drawMutex);
     // Silent for the first second (delayMs()), then four redraws a second until finish().

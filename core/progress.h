@@ -53,6 +53,11 @@ public:
     void advance(int64_t n = 1);
     /// Staged work: stage `index` starts now (the ones before it are done).
     void beginStage(size_t index);
+    /// Staged work: a stage found to be needed on the way (e.g. one only some inputs
+    /// have) put in at `index` (at most the number of stages); the current stage and
+    /// the clock are kept, so the estimate goes on from the times measured so far.
+    /// Ignored for counted work.
+    void insertStage(size_t index, ProgressStage stage);
     /// Marks the work finished and clears the bar.
     void finish();
 

@@ -18,9 +18,11 @@ namespace rosy::scenes {
 
 namespace {
 
-/// Times one stage, records it in `timings` (when given) and tells options.onStage.
+/// Times one stage, records it in `timings` (when given) and tells options.onStageStart
+/// and options.onStage.
 template <typename F>
 auto timed(const std::string &stage, StageTimings *timings, const PipelineOptions &options, F &&work) {
+    if (options.onStageStart) options.onStageStart(stage);
     const auto start = std::chrono::steady_clock::now();
     auto result = work();
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -125,7 +127,6 @@ SceneFieldResult buildSceneField(const LoadedScene &loaded, const FieldDesc &fie
     if (noisy) {
         // Everything again on the smoothed copy; the scene's frames get the field carried back.
         out.noisyDensity = field::singularityDensity(mesh, out.noisySingularities);
-        if (options.onStage) options.onStage("scan_noise", 0.0);
         out.smoothedSurface = timed("scan_field", timings, options, [&] {
             out.field = {}; // the noise's field and its curvature: not kept beside the copy's
             const auto smoothingStart = std::chrono::steady_clock::now();
@@ -347,6 +348,8 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
         [&] {
             out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
             out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
+            // Built beside the field: what the rest waits for now (PipelineOptions::onStageStart).
+            if (options.onStageStart) options.onStageStart("bvh");
         },
         true);
     out.timingsMs.emplace_back("bvh", view.bvhMs);

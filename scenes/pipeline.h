@@ -78,10 +78,16 @@ struct PipelineOptions {
     /// memory check). Counted in the "load" stage's time.
     std::function<void(Scene &)> afterLoad;
     /// Called as each stage ends with its name and milliseconds (progress, live timings).
-    /// Also called once with ("scan_noise", 0) when the field is judged a noisy scan's,
-    /// before the "scan_field" stage starts (a long one on large scans), which is
-    /// recorded in no timings: a progress display can then name it.
     std::function<void(const std::string &stage, double ms)> onStage;
+    /// Called as each stage run on the calling thread starts, with its name (load,
+    /// frames, field, singularities, scan_field, separatrices, unedited,
+    /// field_picture): a progress display can name the stage running, also one that
+    /// only some scenes have (scan_field: a noisy scan's field on its smoothed copy,
+    /// minutes on millions of faces), and bvh when the field is done and the drawing
+    /// waits for the ray scene built beside it. The view's other stages (gbuffer,
+    /// tone, …) run beside the field or inside the illustration, which shows its own
+    /// progress.
+    std::function<void(const std::string &stage)> onStageStart;
     /// Measure the hatching (Illustration::hatch: spacing violations, strokes near
     /// singularities; about a sixth of the hatching stage). Only reports read it.
     bool measureHatching = true;

@@ -121,3 +121,30 @@ TEST(Progress, StagedWorkNamesItsStageWithoutBeingAdvanced) {
     const std::string finished = tty.read();
     EXPECT_EQ(finished.substr(finished.size() - 4), "\r\033[K");
 }
+
+TEST(Progress, AStageInsertedOnTheWayKeepsTheRunningStageAndTheClock) {
+    StderrOnTerminal tty;
+    if (!tty.ok()) GTEST_SKIP() << "no pseudo-terminal";
+    setProgressEnabled(true);
+    Progress p("preparing", {{"a", 1}, {"c", 1}});
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    p.beginStage(1);                // c runs
+    p.insertStage(1, {"b", 2});     // before it: c is still the one running, now third
+    p.insertStage(9, {"d", 1});     // past the end: appended
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    const std::string drawn = tty.read();
+    const size_t at = drawn.rfind("\rpreparing: ");
+    ASSERT_NE(at, std::string::npos) << drawn;
+    EXPECT_EQ(drawn.compare(at + 12, 2, "c "), 0) << drawn;
+    // a and b (weights 1 + 2) of 5 are done: at least 60 %, and c (one more) at most 95 % of it.
+    const size_t pct = drawn.find('%', at);
+    ASSERT_NE(pct, std::string::npos) << drawn;
+    const int shown = std::atoi(drawn.substr(pct - 3, 3).c_str());
+    EXPECT_GE(shown, 60) << drawn;
+    EXPECT_LE(shown, 79) << drawn;
+    p.beginStage(3); // d: the last
+    p.finish();
+    Progress counted("hatching", 4);
+    counted.insertStage(0, {"x", 1}); // counted work has no stages: ignored
+    counted.finish();
+}
