@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace rosy::field {
@@ -47,14 +48,16 @@ struct Implicit {
 constexpr int64_t kBlock = 8192;
 
 /// Runs `body(begin, end)` on the blocks in parallel and returns the per-coordinate sum
-/// of what each returns, added in block order.
+/// of what each returns (a fixed-size Eigen matrix: Vec3, or several sums side by side),
+/// added in block order.
 template <typename Body>
-Vec3 blockSums(int64_t n, Body &&body) {
+auto blockSums(int64_t n, Body &&body) {
+    using Sum = std::decay_t<decltype(body(int64_t(0), int64_t(0)))>;
     const int64_t nBlocks = (n + kBlock - 1) / kBlock;
-    std::vector<Vec3> partial(size_t(nBlocks), Vec3::Zero());
+    std::vector<Sum> partial(size_t(nBlocks), Sum::Zero());
     parallelFor(0, nBlocks, [&](int64_t k) { partial[size_t(k)] = body(k * kBlock, std::min(n, (k + 1) * kBlock)); }, 1);
-    Vec3 total = Vec3::Zero();
-    for (const Vec3 &p : partial) total += p;
+    Sum total = Sum::Zero();
+    for (const Sum &p : partial) total += p;
     return total;
 }
 
@@ -113,21 +116,19 @@ std::vector<Vec3> solveImplicit(const Implicit &A, const std::vector<Vec3> &b) {
         Vec3 alpha;
         for (int c = 0; c < 3; ++c) alpha[c] = pq[c] > 0 ? rz[c] / pq[c] : 0.0;
         // x += α p, r −= α q, z = D⁻¹ r, with r·z and r·r (the next iteration's test).
-        Vec3 rrNext = Vec3::Zero();
-        std::vector<Vec3> rrPartial(size_t((n + kBlock - 1) / kBlock), Vec3::Zero());
-        const Vec3 rzNext = blockSums(n, [&](int64_t i0, int64_t i1) {
-            Vec3 sumRz = Vec3::Zero(), sumRr = Vec3::Zero();
+        // Column 0: r·z, column 1: r·r.
+        const Eigen::Matrix<double, 3, 2> sums = blockSums(n, [&](int64_t i0, int64_t i1) {
+            Eigen::Matrix<double, 3, 2> sum = Eigen::Matrix<double, 3, 2>::Zero();
             for (int64_t i = i0; i < i1; ++i) {
                 x[size_t(i)] += alpha.cwiseProduct(p[size_t(i)]);
                 r[size_t(i)] -= alpha.cwiseProduct(q[size_t(i)]);
                 z[size_t(i)] = inverseDiagonal[size_t(i)] * r[size_t(i)];
-                sumRz += r[size_t(i)].cwiseProduct(z[size_t(i)]);
-                sumRr += r[size_t(i)].cwiseProduct(r[size_t(i)]);
+                sum.col(0) += r[size_t(i)].cwiseProduct(z[size_t(i)]);
+                sum.col(1) += r[size_t(i)].cwiseProduct(r[size_t(i)]);
             }
-            rrPartial[size_t(i0 / kBlock)] = sumRr;
-            return sumRz;
+            return sum;
         });
-        for (const Vec3 &part : rrPartial) rrNext += part;
+        const Vec3 rzNext = sums.col(0), rrNext = sums.col(1);
         Vec3 beta;
         for (int c = 0; c < 3; ++c) beta[c] = rz[c] > 0 ? rzNext[c] / rz[c] : 0.0;
         rz = rzNext;

@@ -176,6 +176,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         for (const Vec3 &s : sing) best = std::min(best, (s - p).norm());
         return best;
     };
+    const int regularValence = field.nSym == 6 ? 6 : 4;
     std::vector<double> irregularDist;
     std::vector<char> singHit(sing.size(), 0);
     int interior = 0;
@@ -185,8 +186,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         q.valenceHistogram[val]++;
         ++interior;
         if (val == 2) q.valence2Vertices++;
-        const int want = field.nSym == 6 ? 6 : 4;
-        if (val == want) continue;
+        if (val == regularValence) continue;
         q.irregularVertices++;
         const double d = nearestSing(positions[v]);
         irregularDist.push_back(d / edgeLength);
@@ -198,13 +198,18 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
     for (char h : singHit) q.singularitiesWithIrregularVertex += h;
 
-    // --- corner angles
+    // --- corner angles: corner i of polygon f is angle[cornerStart[f] + i]
+    std::vector<size_t> cornerStart(polygons.size() + 1, 0);
+    for (size_t f = 0; f < polygons.size(); ++f) cornerStart[f + 1] = cornerStart[f] + polygons[f].size();
+    std::vector<double> angle(cornerStart.back());
     std::vector<double> dev, devNear;
-    for (const auto &poly : polygons) {
+    for (size_t f = 0; f < polygons.size(); ++f) {
+        const auto &poly = polygons[f];
         const int k = int(poly.size());
         for (int i = 0; i < k; ++i) {
             const Vec3 &p = positions[poly[i]];
             const double a = angleDeg(positions[poly[(i + k - 1) % k]] - p, positions[poly[(i + 1) % k]] - p);
+            angle[cornerStart[f] + size_t(i)] = a;
             dev.push_back(std::abs(a - targetAngle));
             if (!sing.empty() && nearestSing(p) <= 2 * edgeLength) devNear.push_back(dev.back());
         }
@@ -219,7 +224,6 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         std::vector<std::vector<int>> facesAt(static_cast<size_t>(nP));
         for (size_t f = 0; f < polygons.size(); ++f)
             for (int v : polygons[f]) facesAt[size_t(v)].push_back(int(f));
-        const int want = field.nSym == 6 ? 6 : 4;
         std::vector<char> faceTaken(polygons.size(), 0), singularVertex(static_cast<size_t>(nP), 0);
         std::vector<double> devRings;
         for (const Vec3 &s : sing) {
@@ -229,7 +233,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
                 if (!usedVertex[size_t(v)]) continue;
                 const double d = (positions[size_t(v)] - s).norm();
                 if (d < bestD) bestD = d, best = v;
-                if (!onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != want && d <= 2 * edgeLength &&
+                if (!onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != regularValence && d <= 2 * edgeLength &&
                     d < bestIrregularD)
                     bestIrregularD = d, bestIrregular = v;
             }
@@ -244,12 +248,9 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         for (size_t f = 0; f < polygons.size(); ++f) {
             if (!faceTaken[f]) continue;
             const auto &poly = polygons[f];
-            const int k = int(poly.size());
-            for (int i = 0; i < k; ++i) {
-                const int v = poly[size_t(i)];
-                const Vec3 &p = positions[size_t(v)];
-                const double a = angleDeg(positions[size_t(poly[size_t((i + k - 1) % k)])] - p,
-                                          positions[size_t(poly[size_t((i + 1) % k)])] - p);
+            for (size_t i = 0; i < poly.size(); ++i) {
+                const int v = poly[i];
+                const double a = angle[cornerStart[f] + i];
                 const bool cone = singularVertex[size_t(v)] && !nbrs[size_t(v)].empty();
                 devRings.push_back(std::abs(a - (cone ? 360.0 / double(nbrs[size_t(v)].size()) : targetAngle)));
             }

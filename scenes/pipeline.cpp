@@ -72,11 +72,11 @@ renderer::IllustrationInput viewInput(const Scene &scene, const renderer::RaySce
 } // namespace
 
 std::shared_ptr<const field::SmoothedSurface> LoadedScene::smoothedCopy() const {
-    ROSY_CHECK(frames && copyCache);
-    tbb::collaborative_call_once(copyCache->once, [&] {
-        copyCache->copy = std::make_shared<const field::SmoothedSurface>(field::smoothAtScale(frames->mesh()));
+    ROSY_CHECK(frames && m_copyCache);
+    tbb::collaborative_call_once(m_copyCache->once, [&] {
+        m_copyCache->copy = std::make_shared<const field::SmoothedSurface>(field::smoothAtScale(frames->mesh()));
     });
-    return copyCache->copy;
+    return m_copyCache->copy;
 }
 
 LoadedScene loadScene(const SceneDesc &desc, const PipelineOptions &options, StageTimings *timings) {

@@ -132,11 +132,13 @@ struct LoadedScene {
     /// concurrent first calls wait for one build (and help it). Needs `frames`.
     std::shared_ptr<const field::SmoothedSurface> smoothedCopy() const;
 
+private:
+    /// On the heap: the once-flag cannot move with the scene.
     struct CopyCache {
         tbb::collaborative_once_flag once;
         std::shared_ptr<const field::SmoothedSurface> copy;
     };
-    std::shared_ptr<CopyCache> copyCache = std::make_shared<CopyCache>();
+    std::shared_ptr<CopyCache> m_copyCache = std::make_shared<CopyCache>();
 };
 
 /// A noisy scan's field as the view reads it: the smoothed copy it was computed on
