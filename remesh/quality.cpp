@@ -197,6 +197,16 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
     q.irregularFraction = interior ? double(q.irregularVertices) / interior : 0;
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
     for (char h : singHit) q.singularitiesWithIrregularVertex += h;
+    // Item 2's guarantee: an irregular vertex or an irregular face (a corner of it) near
+    // each singularity.
+    std::vector<char> singMarked = singHit;
+    for (const auto &poly : polygons) {
+        if (int(poly.size()) == regular) continue;
+        for (int v : poly)
+            for (size_t s = 0; s < sing.size(); ++s)
+                if ((sing[s] - positions[size_t(v)]).norm() <= 2 * edgeLength) singMarked[s] = 1;
+    }
+    for (char h : singMarked) q.singularitiesMarked += h;
 
     // --- corner angles: corner i of polygon f is angle[cornerStart[f] + i]
     std::vector<size_t> cornerStart(polygons.size() + 1, 0);
@@ -443,6 +453,7 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.field("distance_to_singularity_median_L", q.irregularDistanceMedianL);
     json.field("singularities", q.singularities);
     json.field("singularities_with_irregular_vertex", q.singularitiesWithIrregularVertex);
+    json.field("singularities_with_irregular_vertex_or_face", q.singularitiesMarked);
     json.endObject();
     json.key("angle_deviation_deg").beginObject();
     json.field("target", q.nSym == 6 ? 60.0 : 90.0);

@@ -63,6 +63,9 @@ struct QualityReport {
     double irregularDistanceMedianL = 0;
     /// Singularities of index ±1/N with an irregular vertex within 2 L.
     int singularities = 0, singularitiesWithIrregularVertex = 0;
+    /// Singularities with an irregular vertex or a corner of a non-quad (non-triangle
+    /// for N = 6) face within 2 L: issue 20's item 2 asks for every one.
+    int singularitiesMarked = 0;
     // geometry
     double angleDevMedianDeg = 0, angleDevP90Deg = 0;       ///< corners vs 90° (60°)
     double angleDevNearSingMedianDeg = 0, angleDevNearSingP90Deg = 0; ///< corners within 2 L of a singularity

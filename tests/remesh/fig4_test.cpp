@@ -98,6 +98,8 @@ TEST(Fig4Remesh, SingularitiesAtCornersAndJointAndBothMeshesValid) {
         EXPECT_EQ(q->flippedFaces, 0);
         EXPECT_EQ(q->valence2Vertices, 0);
         EXPECT_GE(q->regularFaceFraction, 0.95);
+        // Item 2: every singularity has an irregular vertex or an irregular face within 2 L.
+        EXPECT_EQ(q->singularitiesMarked, int(sings.singularities.size()));
     }
     // Pinning the lattice at the singularities makes most of them mesh vertices (the
     // paper: "this allows singularities to be the vertices in the new mesh"). Not

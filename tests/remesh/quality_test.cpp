@@ -144,6 +144,41 @@ TEST(Quality, SingularRingsMeasureConesAgainstTheirOwnAngle) {
     EXPECT_EQ(measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0).cornersInSingularRings, 24);
 }
 
+TEST(Quality, ASingularityIsMarkedByAnIrregularVertexOrAnIrregularFaceWithinTwoL) {
+    // A 4 x 4 grid of unit quads (open: its boundary vertices have no valence to judge),
+    // the corner quad [0,1]² cut into two triangles along the diagonal between its two
+    // boundary vertices (1,0)-(0,1), so that every interior vertex keeps valence 4.
+    std::vector<Vec3> pts;
+    for (int y = 0; y <= 4; ++y)
+        for (int x = 0; x <= 4; ++x) pts.emplace_back(x, y, 0);
+    auto id = [](int x, int y) { return y * 5 + x; };
+    std::vector<std::vector<int>> polys = {{id(0, 0), id(1, 0), id(0, 1)}, {id(1, 0), id(1, 1), id(0, 1)}};
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            if (x + y > 0) polys.push_back({id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)});
+    Fixture fx;
+    field::Singularity s;
+    s.indexNumerator = 1;
+    s.position = Vec3(0.5, 0.5, 0); // the triangles' corners within 2 L = 1
+    fx.sing.singularities.push_back(s);
+    s.indexNumerator = -1;
+    s.position = Vec3(3.0, 3.0, 0); // only regular vertices and quads within 1
+    fx.sing.singularities.push_back(s);
+    const QualityReport q = measureQuality(pts, polys, fx.frames, fx.field, fx.sing, 0.5);
+    EXPECT_EQ(q.irregularVertices, 0);
+    EXPECT_EQ(q.singularities, 2);
+    EXPECT_EQ(q.singularitiesWithIrregularVertex, 0);
+    EXPECT_EQ(q.singularitiesMarked, 1);
+    // With the diagonal the other way, (0,0)-(1,1), vertex (1,1) gets valence 5: an
+    // irregular vertex within 2 L of the first singularity, which both counts see.
+    polys[0] = {id(0, 0), id(1, 0), id(1, 1)};
+    polys[1] = {id(0, 0), id(1, 1), id(0, 1)};
+    const QualityReport turned = measureQuality(pts, polys, fx.frames, fx.field, fx.sing, 0.5);
+    EXPECT_EQ(turned.irregularVertices, 1);
+    EXPECT_EQ(turned.singularitiesWithIrregularVertex, 1);
+    EXPECT_EQ(turned.singularitiesMarked, 1);
+}
+
 TEST(Quality, FlippedFaceIsInconsistentAndFlipped) {
     Fixture fx;
     auto quads = cubeQuads();

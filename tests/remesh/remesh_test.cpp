@@ -153,6 +153,7 @@ TEST(Remesh, SphereKeepsEulerCharacteristicAndIrregularVerticesAtSingularities) 
     EXPECT_GE(q.regularFaceFraction, 0.9);
     EXPECT_EQ(q.singularities, 8);
     EXPECT_EQ(q.singularitiesWithIrregularVertex, 8);
+    EXPECT_EQ(q.singularitiesMarked, 8);
     EXPECT_LE(q.distanceOutToInPct, 1.0);
     EXPECT_LE(q.distanceInToOutPct, 1.0);
 }
