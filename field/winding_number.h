@@ -7,6 +7,9 @@
 
 #include "field/mesh.h"
 
+#include <array>
+#include <vector>
+
 namespace rosy::field {
 
 /// Sum of the signed solid angles that the triangles of `mesh` subtend at `p`
@@ -14,5 +17,10 @@ namespace rosy::field {
 /// inside a closed mesh (the sign follows the face orientation), 0 outside, and
 /// in between near holes of an open mesh. An empty mesh gives 0. O(#F).
 double windingNumber(const Mesh &mesh, const Vec3 &p);
+
+/// The same for the triangles `triangles` (indices into `positions`), e.g. a polygon
+/// mesh's fan triangles, without building a Mesh. O(#triangles).
+double windingNumber(const std::vector<Vec3> &positions, const std::vector<std::array<int, 3>> &triangles,
+                     const Vec3 &p);
 
 } // namespace rosy::field

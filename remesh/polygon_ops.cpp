@@ -5,6 +5,7 @@
 
 #include "field/mesh/mesh_stats.h"
 #include "field/mesh/union_find.h"
+#include "field/winding_number.h"
 
 #include <algorithm>
 #include <array>
@@ -866,22 +867,26 @@ int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector
     }
     if (candidates == 0) return 0;
     // A candidate goes only if the pieces that stay pass within L of every corner
-    // of it: then it adds no surface the output lacks (a tunnel's wall inside a
-    // closed tunnel), whereas a small part of its own somewhere else stays.
+    // of it, or enclose it (every corner inside the solid they bound: winding number
+    // at least 1/2 in size): then it adds no surface the output lacks (a tunnel's
+    // wall inside a closed tunnel), whereas a small part of its own somewhere else
+    // stays.
     std::vector<std::array<int, 3>> kept;
     for (size_t f = 0; f < polygons.size(); ++f)
         if (!stray[size_t(pieceOfFace[f])])
             for (size_t i = 1; i + 1 < polygons[f].size(); ++i)
                 kept.push_back({polygons[f][0], polygons[f][i], polygons[f][i + 1]});
-    const AabbTree rest(positions, std::move(kept));
+    const AabbTree rest(positions, kept);
     int removed = 0;
     for (int c = 0; c < nPieces; ++c) {
         if (!stray[size_t(c)]) continue;
-        for (int v : vertices[size_t(c)])
-            if (rest.closest(positions[size_t(v)]).distance2 > L * L) {
-                stray[size_t(c)] = 0;
-                break;
-            }
+        const std::vector<int> &corners = vertices[size_t(c)];
+        const bool near = std::all_of(corners.begin(), corners.end(), [&](int v) {
+            return rest.closest(positions[size_t(v)]).distance2 <= L * L;
+        });
+        stray[size_t(c)] = near || std::all_of(corners.begin(), corners.end(), [&](int v) {
+            return std::abs(field::windingNumber(positions, kept, positions[size_t(v)])) >= 0.5;
+        });
         removed += stray[size_t(c)];
     }
     if (removed == 0) return 0;

@@ -355,7 +355,7 @@ void addTetrahedron(Polygons &P, std::vector<Vec3> &x, const Vec3 &c, double siz
         P.push_back({b + t[0], b + t[1], b + t[2]});
 }
 
-TEST(RemoveStrayPieces, ASpeckOnACoveredComponentGoesAPieceOfItsOwnComponentStays) {
+TEST(RemoveStrayPieces, ASpeckOnACoveredComponentOrEnclosedGoesAPieceOfItsOwnComponentStays) {
     // Input: the cube [-1, 1]^3 and a small cube (half-side 0.1) at x = 5.
     const field::Mesh big = field::makeCube(4), small = field::makeCube(1);
     std::vector<Vec3> inPoints = big.positions();
@@ -379,15 +379,18 @@ TEST(RemoveStrayPieces, ASpeckOnACoveredComponentGoesAPieceOfItsOwnComponentStay
     addTetrahedron(P, x, Vec3(-0.5, 0.0, -0.8), 0.5); // a piece of area 0.43 on it: surface, stays
     const int apart = int(x.size());
     addTetrahedron(P, x, Vec3(0.0, 0.0, 1.3), 0.05); // as small, but 0.3 (6 L) off the rest: stays
+    const int inside = int(x.size());
+    addTetrahedron(P, x, Vec3(0.1, -0.2, 0.0), 0.05); // as small, 0.8 off the rest but inside the big cube: goes
     // The small cube's faces are the only piece on it and stay, though their area
     // (0.24) is below the second tetrahedron's.
-    EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 1);
+    EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 2);
     ASSERT_EQ(P.size(), nInput + 8);
     for (size_t f = 0; f < nInput; ++f)
         EXPECT_EQ(P[f], (std::vector<int>{input.faces()[f][0], input.faces()[f][1], input.faces()[f][2]}));
     for (int v = speck; v < speck + 4; ++v) EXPECT_FALSE(uses(P, v)) << "the speck's corner " << v;
     for (int v = piece; v < piece + 4; ++v) EXPECT_TRUE(uses(P, v)) << "the larger piece's corner " << v;
     for (int v = apart; v < apart + 4; ++v) EXPECT_TRUE(uses(P, v)) << "the piece apart's corner " << v;
+    for (int v = inside; v < inside + 4; ++v) EXPECT_FALSE(uses(P, v)) << "the enclosed speck's corner " << v;
     // Nothing more goes on a second call; a lone piece is never a stray.
     EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 0);
     Polygons alone{{speck, speck + 1, speck + 2}};
