@@ -254,6 +254,7 @@ void runRender(const RenderOptions &opt) {
         json.field("ink_length_px", il.hatch.inkLengthPx);
         json.field("min_spacing_violations", il.hatch.minSpacingViolations);
         json.field("strokes_near_singularities", il.hatch.strokesNearSingularities);
+        json.field("singularity_holes", il.hatch.singularityHoles);
         json.field("stubs", il.hatch.stubs);
         json.field("stub_fraction", il.hatch.stubFraction);
         json.field("cross_overdense_fraction", il.hatch.crossOverdenseFraction);

@@ -1286,6 +1286,40 @@ double measuredSpacingAt(const ScreenField &field, const std::vector<float> &tar
     return familySpacingPx(clampDensity(targetDensity[i]), family, style, w);
 }
 
+/// HatchReport::singularityHoles over the hatch strokes `hatch` of `list`.
+int countSingularityHoles(const StrokeList &list, const std::vector<int> &hatch, const ScreenField &field,
+                          const std::vector<float> &targetDensity, const styles::HatchStyle &style) {
+    int holes = 0;
+    std::vector<std::array<Vec2, 2>> box; // each stroke's bounding box, computed on the first use
+    for (const ScreenSingularity &s : field.singularities) {
+        if (!s.visible) continue;
+        const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
+        const int y = std::clamp(int(std::floor(s.pRaster.y())), 0, field.height - 1);
+        const size_t i = size_t(field.index(x, y));
+        const double w = field.valid(i) ? crossWeight(field, i) : 0.0;
+        if (hatchFamilies(clampDensity(targetDensity[i]), style) < 2 || !(w > 0.0)) continue;
+        const double reach = kHoleRatio * measuredSpacingAt(field, targetDensity, style, s.pRaster, 0);
+        if (box.empty())
+            for (int k : hatch) {
+                const auto &pts = list.strokes[size_t(k)].points;
+                std::array<Vec2, 2> b{pts[0], pts[0]};
+                for (const Vec2 &p : pts) b = {b[0].cwiseMin(p), b[1].cwiseMax(p)};
+                box.push_back(b);
+            }
+        bool inked = false;
+        for (size_t h = 0; h < hatch.size() && !inked; ++h) {
+            if ((s.pRaster.array() < box[h][0].array() - reach).any() ||
+                (s.pRaster.array() > box[h][1].array() + reach).any())
+                continue;
+            const auto &pts = list.strokes[size_t(hatch[h])].points;
+            for (size_t k = 0; k + 1 < pts.size() && !inked; ++k)
+                inked = pointSegmentDistance(s.pRaster, pts[k], pts[k + 1]) <= reach;
+        }
+        holes += !inked;
+    }
+    return holes;
+}
+
 } // namespace
 
 HatchReport countHatches(const StrokeList &list, const ScreenField &field, const std::vector<float> &targetDensity,
@@ -1320,6 +1354,7 @@ HatchReport countHatches(const StrokeList &list, const ScreenField &field, const
         r.stubs += isStub[h];
     }
     r.stubFraction = double(r.stubs) / double(hatch.size());
+    r.singularityHoles = countSingularityHoles(list, hatch, field, targetDensity, style);
     return r;
 }
 

@@ -51,6 +51,11 @@ struct HatchReport {
     int minSpacingViolations = 0;
     /// Strokes that enter the disc of radius d_sep around a visible projected singularity.
     int strokesNearSingularities = 0;
+    /// Visible singularities in cross-hatched tone (two families drawn at their pixel)
+    /// with no hatch line within kHoleRatio × the local spacing d_sep: a white speck
+    /// in dark tone, where between two families' lines no point is farther than d_sep / 2
+    /// from ink.
+    int singularityHoles = 0;
     /// Stubs: hatch strokes shorter than kStubLengthRatio × their local spacing (the
     /// mean of familySpacingPx over the stroke's vertices), and their share of strokes.
     int stubs = 0;
@@ -77,6 +82,11 @@ struct HatchReport {
 
 /// A hatch stroke shorter than this many local spacings reads as a dash, not a line.
 inline constexpr double kStubLengthRatio = 4.0;
+
+/// HatchReport::singularityHoles: in cross-hatched tone no ink within this many local
+/// spacings of a point is a hole (the farthest a point lies from ink there is half a
+/// spacing; a little irregularity reaches about 0.6).
+inline constexpr double kHoleRatio = 0.75;
 
 /// Two same-direction neighbours, one on each side, both closer than this many d_sep
 /// squeeze a line (HatchReport::squeezedFraction). Regular hatching has them at one
@@ -198,7 +208,7 @@ HatchReport measureHatches(const StrokeList &strokes, const ScreenField &field,
                            const styles::HatchStyle &style, double tolerance = 0.05);
 
 /// The per-stroke figures of measureHatches() alone, the same values: stroke counts by
-/// family, ink length, stubs and strokes near singularities; the pairwise measures
+/// family, ink length, stubs, strokes near singularities and singularity holes; the pairwise measures
 /// (spacing violations, overdense, squeezed and incoherent fractions) stay 0. What
 /// `compare` prints per panel, at a fraction of measureHatches()'s time.
 HatchReport countHatches(const StrokeList &strokes, const ScreenField &field,

@@ -421,6 +421,40 @@ TEST(Hatching, CancellingPairIsClearedOnlyInLightTone) {
     EXPECT_GE(nearestStroke(lightList), 0.98 * st.strokeWidthPx / 0.2);
 }
 
+// HatchReport::singularityHoles sees the white speck a lone singularity's keep-away
+// disc leaves in cross-hatched tone (elk, dragknob: docs/hatching.md), and nothing in
+// single tone or where a line passes.
+TEST(Hatching, SingularityHoleIsCountedInCrossToneOnly) {
+    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 256, 256);
+    Scene s(field::makeDisk(40), cam);
+    field::DesignElement plus;
+    plus.position = field::Vec3(0.0, 0.0, 0);
+    plus.order = 1;
+    s.field = field::designField(*s.frames, 4, {plus});
+    s.render();
+    int visible = 0;
+    Vec2 at = Vec2::Zero();
+    for (const ScreenSingularity &sg : s.screen.singularities)
+        if (sg.visible) ++visible, at = sg.pRaster;
+    ASSERT_EQ(visible, 1);
+    styles::HatchStyle st;
+    const std::vector<float> dark = s.uniformDensity(0.8f), light = s.uniformDensity(0.2f);
+    HatchReport r;
+    StrokeList list = traceHatches(s.screen, dark, s.gbuffer, st, 5, &r);
+    ASSERT_GT(r.strokesFamily1, 5);
+    EXPECT_EQ(r.singularityHoles, 1); // its disc, d_sep wide, is empty of both families
+    EXPECT_EQ(countHatches(list, s.screen, dark, st).singularityHoles, 1);
+    // Single tone: a disc there is the rule, not a hole.
+    EXPECT_EQ(countHatches(list, s.screen, light, st).singularityHoles, 0);
+    // A line through it fills it.
+    Stroke through;
+    through.points = {at - Vec2(6, 0), at + Vec2(6, 0)};
+    through.widths = {1.0f, 1.0f};
+    through.family = 0;
+    list.strokes.push_back(through);
+    EXPECT_EQ(countHatches(list, s.screen, dark, st).singularityHoles, 0);
+}
+
 TEST(Hatching, SameStrokesForOneAndTwoThreads) {
     Scene s = cylinder(128);
     styles::HatchStyle st;
