@@ -304,14 +304,21 @@ TEST(Hatching, InkNeverDecreasesAlongAToneRamp) {
     for (int b = 1; b < 8; ++b) EXPECT_GT(ink[size_t(b)], ink[size_t(b - 1)]) << "band " << b;
 }
 
-TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
-    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 192, 192);
-    Scene s(field::makeDisk(24), cam);
+/// A disk (makeDisk(rings)) seen from above at res², its 4-RoSy field designed from one
+/// singular element of `order` at `at`, rendered.
+Scene diskWithElement(int rings, int res, const field::Vec3 &at, int order) {
+    const Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, res, res);
+    Scene s(field::makeDisk(rings), cam);
     field::DesignElement e;
-    e.position = field::Vec3(0.05, 0.02, 0);
-    e.order = 1;
+    e.position = at;
+    e.order = order;
     s.field = field::designField(*s.frames, 4, {e});
     s.render();
+    return s;
+}
+
+TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
+    Scene s = diskWithElement(24, 192, field::Vec3(0.05, 0.02, 0), 1);
     styles::HatchStyle st;
     const float density = 0.1f;
     const double dSep = st.strokeWidthPx / density; // one family
@@ -328,7 +335,7 @@ TEST(Hatching, StrokesStayOnTheSurfaceAndAwayFromSingularities) {
         for (const Vec2 &p : stroke.points)
             ASSERT_TRUE(s.gbuffer.covered(int(std::floor(p.x())), int(std::floor(p.y()))))
                 << "stroke " << stroke.id << " leaves the surface at " << p.transpose();
-    const double nearest = nearestStrokeToSingularities(list, sing, cam);
+    const double nearest = nearestStrokeToSingularities(list, sing, s.camera);
     EXPECT_GE(nearest, 0.98 * dSep);
     // Not vacuous: hatches do come up to the disc.
     EXPECT_LT(nearest, 2.0 * dSep);
@@ -425,13 +432,7 @@ TEST(Hatching, CancellingPairIsClearedOnlyInLightTone) {
 // disc leaves in cross-hatched tone (elk, dragknob: docs/hatching.md), and nothing in
 // single tone or where a line passes.
 TEST(Hatching, SingularityHoleIsCountedInCrossToneOnly) {
-    Camera cam = Camera::perspective(Vec3(0, -1.6, 2.6), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 256, 256);
-    Scene s(field::makeDisk(40), cam);
-    field::DesignElement plus;
-    plus.position = field::Vec3(0.0, 0.0, 0);
-    plus.order = 1;
-    s.field = field::designField(*s.frames, 4, {plus});
-    s.render();
+    Scene s = diskWithElement(40, 256, field::Vec3(0.0, 0.0, 0), 1);
     int visible = 0;
     Vec2 at = Vec2::Zero();
     for (const ScreenSingularity &sg : s.screen.singularities)
