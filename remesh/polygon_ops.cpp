@@ -867,8 +867,8 @@ int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector
     }
     if (candidates == 0) return 0;
     // A candidate goes only if the pieces that stay pass within L of every corner
-    // of it, or enclose it (every corner inside the solid they bound: winding number
-    // at least 1/2 in size): then it adds no surface the output lacks (a tunnel's
+    // of it, or, closed, enclose it (every corner inside the solid they bound: winding
+    // number at least 1/2 in size): then it adds no surface the output lacks (a tunnel's
     // wall inside a closed tunnel), whereas a small part of its own somewhere else
     // stays.
     std::vector<std::array<int, 3>> kept;
@@ -877,6 +877,12 @@ int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector
             for (size_t i = 1; i + 1 < polygons[f].size(); ++i)
                 kept.push_back({polygons[f][0], polygons[f][i], polygons[f][i + 1]});
     const AabbTree rest(positions, kept);
+    // A solid only when what stays is closed: every edge of its fan triangles used an
+    // even number of times.
+    std::map<std::pair<int, int>, int> edgeUses;
+    for (const std::array<int, 3> &t : kept)
+        for (int i = 0; i < 3; ++i) ++edgeUses[std::minmax(t[size_t(i)], t[size_t((i + 1) % 3)])];
+    const bool closed = std::all_of(edgeUses.begin(), edgeUses.end(), [](const auto &e) { return e.second % 2 == 0; });
     int removed = 0;
     for (int c = 0; c < nPieces; ++c) {
         if (!stray[size_t(c)]) continue;
@@ -884,9 +890,9 @@ int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector
         const bool near = std::all_of(corners.begin(), corners.end(), [&](int v) {
             return rest.closest(positions[size_t(v)]).distance2 <= L * L;
         });
-        stray[size_t(c)] = near || std::all_of(corners.begin(), corners.end(), [&](int v) {
+        stray[size_t(c)] = near || (closed && std::all_of(corners.begin(), corners.end(), [&](int v) {
             return std::abs(field::windingNumber(positions, kept, positions[size_t(v)])) >= 0.5;
-        });
+        }));
         removed += stray[size_t(c)];
     }
     if (removed == 0) return 0;

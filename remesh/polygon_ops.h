@@ -207,8 +207,8 @@ constexpr double kStrayPieceArea = 16.0;
 /// its vertices; the largest piece on each input component stays, and so does any
 /// piece of at least kStrayPieceArea L² (a part cut off at a thin neck is surface the
 /// input has) or with a corner farther than L from every piece that stays (a small
-/// part of its own), unless the pieces that stay enclose every corner of it (it is
-/// inside their solid: femur at 1 % after its coarse input is refined, a 9-face speck
+/// part of its own), unless the pieces that stay are closed and enclose every corner of
+/// it (it is inside their solid: femur at 1 % after its coarse input is refined, a 9-face speck
 /// 1.5 L from the bone's wall inside it). Most are two faces back to back, one of them flipped (cube_quad,
 /// torus_quad, corner_with_sharp_edge at 1 %). Removes them from `polygons` (their
 /// vertices are left unused); returns how many pieces went.

@@ -395,6 +395,13 @@ TEST(RemoveStrayPieces, ASpeckOnACoveredComponentOrEnclosedGoesAPieceOfItsOwnCom
     EXPECT_EQ(removeStrayPieces(P, x, input, tree, L), 0);
     Polygons alone{{speck, speck + 1, speck + 2}};
     EXPECT_EQ(removeStrayPieces(alone, x, input, tree, L), 0);
+    // An open surface bounds no solid: with a face of the big cube missing, the speck
+    // inside stays.
+    Polygons open;
+    for (size_t f = 2; f < size_t(big.nFaces()); ++f) open.push_back(P[f]);
+    for (const std::array<int, 3> &t : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}})
+        open.push_back({inside + t[0], inside + t[1], inside + t[2]});
+    EXPECT_EQ(removeStrayPieces(open, x, input, tree, L), 0);
 }
 
 // The unit square's sides and both diagonals, in the plane z = 0 (normals +z): the
