@@ -177,6 +177,11 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         return best;
     };
     const int regularValence = field.nSym == 6 ? 6 : 4;
+    // hit[s] = 1 for every singularity s within 2 L of p.
+    auto markNear = [&](const Vec3 &p, std::vector<char> &hit) {
+        for (size_t s = 0; s < sing.size(); ++s)
+            if ((sing[s] - p).norm() <= 2 * edgeLength) hit[s] = 1;
+    };
     std::vector<double> irregularDist;
     std::vector<char> singHit(sing.size(), 0);
     int interior = 0;
@@ -191,21 +196,19 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         const double d = nearestSing(positions[v]);
         irregularDist.push_back(d / edgeLength);
         if (d <= 2 * edgeLength) q.irregularNearSingularity++;
-        for (size_t s = 0; s < sing.size(); ++s)
-            if ((sing[s] - positions[v]).norm() <= 2 * edgeLength) singHit[s] = 1;
+        markNear(positions[v], singHit);
     }
     q.irregularFraction = interior ? double(q.irregularVertices) / interior : 0;
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
     for (char h : singHit) q.singularitiesWithIrregularVertex += h;
     // Item 2's guarantee: an irregular vertex or an irregular face (a corner of it) near
     // each singularity.
-    std::vector<char> singMarked = singHit;
-    for (const auto &poly : polygons) {
-        if (int(poly.size()) == regular) continue;
-        for (int v : poly)
-            for (size_t s = 0; s < sing.size(); ++s)
-                if ((sing[s] - positions[size_t(v)]).norm() <= 2 * edgeLength) singMarked[s] = 1;
-    }
+    std::vector<char> singMarked = singHit, irregularCorner(static_cast<size_t>(nP), 0);
+    for (const auto &poly : polygons)
+        if (int(poly.size()) != regular)
+            for (int v : poly) irregularCorner[size_t(v)] = 1;
+    for (int v = 0; v < nP; ++v)
+        if (irregularCorner[size_t(v)]) markNear(positions[size_t(v)], singMarked);
     for (char h : singMarked) q.singularitiesMarked += h;
 
     // --- corner angles: corner i of polygon f is angle[cornerStart[f] + i]

@@ -102,6 +102,13 @@ double random01(uint32_t seed, uint32_t id, uint32_t k) {
 
 Vec2 rotate(const Vec2 &v, double c, double s) { return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y()); }
 
+/// The index of the pixel holding raster point p, clamped into the image.
+size_t clampedPixel(const ScreenField &field, const Vec2 &p) {
+    const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
+    const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
+    return size_t(field.index(x, y));
+}
+
 double pointSegmentDistance(const Vec2 &p, const Vec2 &a, const Vec2 &b) {
     const Vec2 ab = b - a;
     const double l2 = ab.squaredNorm();
@@ -1279,9 +1286,7 @@ std::vector<int> measuredStrokes(const StrokeList &list) {
 /// traced it); family 1's for the second family's own d_test.
 double measuredSpacingAt(const ScreenField &field, const std::vector<float> &targetDensity,
                          const styles::HatchStyle &style, const Vec2 &p, int family) {
-    const int x = std::clamp(int(std::floor(p.x())), 0, field.width - 1);
-    const int y = std::clamp(int(std::floor(p.y())), 0, field.height - 1);
-    const size_t i = size_t(field.index(x, y));
+    const size_t i = clampedPixel(field, p);
     const double w = field.valid(i) ? crossWeight(field, i) : 0.0;
     return familySpacingPx(clampDensity(targetDensity[i]), family, style, w);
 }
@@ -1293,9 +1298,7 @@ int countSingularityHoles(const StrokeList &list, const std::vector<int> &hatch,
     std::vector<std::array<Vec2, 2>> box; // each stroke's bounding box, computed on the first use
     for (const ScreenSingularity &s : field.singularities) {
         if (!s.visible) continue;
-        const int x = std::clamp(int(std::floor(s.pRaster.x())), 0, field.width - 1);
-        const int y = std::clamp(int(std::floor(s.pRaster.y())), 0, field.height - 1);
-        const size_t i = size_t(field.index(x, y));
+        const size_t i = clampedPixel(field, s.pRaster);
         const double w = field.valid(i) ? crossWeight(field, i) : 0.0;
         if (hatchFamilies(clampDensity(targetDensity[i]), style) < 2 || !(w > 0.0)) continue;
         const double reach = kHoleRatio * measuredSpacingAt(field, targetDensity, style, s.pRaster, 0);
