@@ -67,7 +67,6 @@ struct FieldOptions {
     }
 };
 
-bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
 
 // "L,x,y,z[,phase_deg]" or "0,x,y,z,dx,dy,dz".
 field::DesignElement parseElement(const std::string &text, int k) {

@@ -51,7 +51,6 @@ struct RenderOptions {
 };
 
 bool isExrPath(const std::string &path) { return hasExtension(path, ".exr"); }
-bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
 
 /// Throws IoError (exit 3) when the render's estimated memory exceeds what this
 /// process can still allocate; ROSY_MEMORY_CHECK=off skips the check.

@@ -91,6 +91,8 @@ struct CommonOptions {
 
 /// True if `path` ends in `dotExt` (e.g. ".svg"), ignoring case.
 bool hasExtension(const std::string &path, const char *dotExt);
+/// True for a path ending in ".svg" (any case, as hasExtension).
+bool isSvgPath(const std::string &path);
 
 /// Adds --threads, --quiet, --timings and --max-faces to a subcommand.
 void addCommonOptions(CLI::App &sub, CommonOptions &options);

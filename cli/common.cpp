@@ -16,6 +16,8 @@ bool hasExtension(const std::string &path, const char *dotExt) {
     return ext == want;
 }
 
+bool isSvgPath(const std::string &path) { return hasExtension(path, ".svg"); }
+
 void addCommonOptions(CLI::App &sub, CommonOptions &options) {
     sub.add_option("--threads", options.threads, "worker threads (0 = all cores; render and compare: overrides the scene's threads); "
                    "results do not depend on it")

@@ -87,7 +87,7 @@ void expectTetra(const Mesh &m) {
 void putFloat(std::string &s, float x) { s.append(reinterpret_cast<const char *>(&x), 4); }
 void putU32(std::string &s, uint32_t x) { s.append(reinterpret_cast<const char *>(&x), 4); }
 
-std::string binaryStl(float poison = 0) {
+std::string binaryTetraStl(float poison = 0) {
     std::string s(80, ' ');
     putU32(s, 4);
     for (const auto &f : kTetraF) {
@@ -156,7 +156,7 @@ TEST_F(MeshIoTest, LoadsAsciiAndBinaryStl) {
     }
     ascii += "endsolid t\n";
     expectTetra(loadMesh(write("a.stl", ascii)));
-    expectTetra(loadMesh(write("b.stl", binaryStl())));
+    expectTetra(loadMesh(write("b.stl", binaryTetraStl())));
 }
 
 TEST_F(MeshIoTest, LoadsShippedBunnyWithHeaderCounts) {
@@ -228,7 +228,7 @@ TEST_F(MeshIoTest, RejectsNonFiniteCoordinates) {
     p = write("inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n");
     msg = expectInputError(p, [&] { loadMesh(p); });
     EXPECT_NE(msg.find("inf.obj:2:7"), std::string::npos) << msg;
-    p = write("nan.stl", binaryStl(std::numeric_limits<float>::quiet_NaN()));
+    p = write("nan.stl", binaryTetraStl(std::numeric_limits<float>::quiet_NaN()));
     expectInputError(p, [&] { loadMesh(p); });
     // Soups from code are checked too.
     std::vector<Vec3> bad = kTetraP;
@@ -264,7 +264,7 @@ TEST_F(MeshIoTest, RejectsMoreFacesThanTheLimit) {
     LoadOptions opt;
     opt.maxFaces = 3;
     for (const std::string &name : {std::string("t.off"), std::string("t.stl")}) {
-        std::string p = name == "t.off" ? write(name, tetraOff()) : write(name, binaryStl());
+        std::string p = name == "t.off" ? write(name, tetraOff()) : write(name, binaryTetraStl());
         std::string msg = expectInputError(p, [&] { loadMesh(p, opt); });
         EXPECT_NE(msg.find("limit"), std::string::npos) << msg;
     }

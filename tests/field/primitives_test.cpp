@@ -16,7 +16,6 @@ using namespace rosy::field;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 /// Divergence theorem: V = Σ p0 · (p1 × p2) / 6, positive for outward faces.
 double signedVolume(const Mesh &m) {
@@ -63,13 +62,13 @@ TEST(Icosphere, CountsFollowSubdivisionFormula) {
 TEST(Icosphere, VolumeApproachesBall) {
     // An inscribed polyhedron: slightly below 4/3 π r³, within 2% at s = 3.
     const double v = signedVolume(makeIcosphere(3));
-    EXPECT_LT(v, 4.0 / 3.0 * kPi);
-    EXPECT_GT(v, 0.98 * 4.0 / 3.0 * kPi);
+    EXPECT_LT(v, 4.0 / 3.0 * std::numbers::pi);
+    EXPECT_GT(v, 0.98 * 4.0 / 3.0 * std::numbers::pi);
 }
 
 TEST(Ellipsoid, VolumeAndBoundsMatchSemiAxes) {
     Mesh m = makeEllipsoid(3, 3, 2, 1);
-    EXPECT_NEAR(signedVolume(m), 4.0 / 3.0 * kPi * 6, 0.02 * 4.0 / 3.0 * kPi * 6);
+    EXPECT_NEAR(signedVolume(m), 4.0 / 3.0 * std::numbers::pi * 6, 0.02 * 4.0 / 3.0 * std::numbers::pi * 6);
     MeshStats s = computeStats(m);
     EXPECT_NEAR(s.boundsMax.x(), 3, 1e-12); // icosahedron vertices lie on the axes' planes
     EXPECT_EQ(s.eulerCharacteristic, 2);
@@ -86,7 +85,7 @@ TEST(Torus, CountsVolumeAndGenus) {
     EXPECT_EQ(s.genus, 1);
     // Pappus: V = 2π R · π r² for the smooth torus; the inscribed mesh loses
     // about 1 − (16/2π) sin(2π/16) ≈ 2.5% of the tube cross-section.
-    const double exact = 2 * kPi * 2.0 * kPi * 0.25;
+    const double exact = 2 * std::numbers::pi * 2.0 * std::numbers::pi * 0.25;
     EXPECT_LT(signedVolume(m), exact);
     EXPECT_GT(signedVolume(m), 0.95 * exact);
 }
@@ -164,7 +163,7 @@ TEST(Disk, IsAFlatTopologicalDisk) {
     EXPECT_EQ(s.vertices, 1 + 3 * rings * (rings + 1));
     for (int f = 0; f < m.nFaces(); ++f) EXPECT_NEAR(m.faceNormal(f).z(), 1.0, 1e-12);
     // Regular 36-gon inscribed in the unit circle: (n/2) sin(2π/n).
-    EXPECT_NEAR(area(m), 18 * std::sin(2 * kPi / 36), 1e-12);
+    EXPECT_NEAR(area(m), 18 * std::sin(2 * std::numbers::pi / 36), 1e-12);
     EXPECT_EQ(int(boundaryLoops(m)[0].size()), 6 * rings);
 }
 

@@ -51,19 +51,19 @@ std::string asciiPly(const std::vector<int> &strip) {
     return s + "\n";
 }
 
-template <typename T> void put(std::string &s, T x, bool bigEndian) {
+template <typename T> void putEndian(std::string &s, T x, bool bigEndian) {
     char b[sizeof(T)];
     std::memcpy(b, &x, sizeof(T));
     if (bigEndian) std::reverse(b, b + sizeof(T));
     s.append(b, sizeof(T));
 }
 
-std::string binaryPly(const std::vector<int> &strip, bool bigEndian, int32_t length = -1) {
+std::string binaryStripPly(const std::vector<int> &strip, bool bigEndian, int32_t length = -1) {
     std::string s = header(bigEndian ? "binary_big_endian" : "binary_little_endian");
     for (const Vec3 &p : kGrid)
-        for (int k = 0; k < 3; ++k) put(s, float(p[k]), bigEndian);
-    put(s, length >= 0 ? length : int32_t(strip.size()), bigEndian);
-    for (int i : strip) put(s, int32_t(i), bigEndian);
+        for (int k = 0; k < 3; ++k) putEndian(s, float(p[k]), bigEndian);
+    putEndian(s, length >= 0 ? length : int32_t(strip.size()), bigEndian);
+    for (int i : strip) putEndian(s, int32_t(i), bigEndian);
     return s;
 }
 
@@ -124,8 +124,8 @@ TEST_F(TriStrips, AsciiStripWithRestartAndDegenerateTrianglesGivesTheHandWorkedT
 }
 
 TEST_F(TriStrips, BinaryLittleAndBigEndianGiveTheSameTriangles) {
-    expectGridTriangles(loadMesh(write("le.ply", binaryPly(kStrip, false))));
-    expectGridTriangles(loadMesh(write("be.ply", binaryPly(kStrip, true))));
+    expectGridTriangles(loadMesh(write("le.ply", binaryStripPly(kStrip, false))));
+    expectGridTriangles(loadMesh(write("be.ply", binaryStripPly(kStrip, true))));
 }
 
 TEST_F(TriStrips, FacesAndStripsInOneFileAreBothRead) {
@@ -142,11 +142,11 @@ TEST_F(TriStrips, IndexOutOfRangeIsRejectedAtItsPlace) {
     EXPECT_NE(msg.find("'6' outside [0, 6)"), std::string::npos) << msg;
     msg = rejection(asciiPly({0, 1, -2}));
     EXPECT_NE(msg.find("'-2'"), std::string::npos) << msg;
-    msg = rejection(binaryPly({0, 1, 6}, false));
+    msg = rejection(binaryStripPly({0, 1, 6}, false));
     EXPECT_NE(msg.find("tristrips 0: strip index (-1 restarts the strip) 6 is out of range [-1, 5]"),
               std::string::npos)
         << msg;
-    msg = rejection(binaryPly({0, 1, -7}, true));
+    msg = rejection(binaryStripPly({0, 1, -7}, true));
     EXPECT_NE(msg.find("-7 is out of range [-1, 5]"), std::string::npos) << msg;
 }
 
@@ -157,9 +157,9 @@ TEST_F(TriStrips, HugeCountsAreRejectedBeforeAllocating) {
     std::string msg = rejection(s);
     EXPECT_NE(msg.find("header says 6 vertex, 1000000000 tristrips"), std::string::npos) << msg;
     // A strip claiming 2^31 - 1 indices: the list length is checked against the bytes left.
-    msg = rejection(binaryPly(kStrip, false, 0x7fffffff));
+    msg = rejection(binaryStripPly(kStrip, false, 0x7fffffff));
     EXPECT_NE(msg.find("list length 2147483647 is out of range"), std::string::npos) << msg;
-    msg = rejection(binaryPly(kStrip, true, 0x7fffffff));
+    msg = rejection(binaryStripPly(kStrip, true, 0x7fffffff));
     EXPECT_NE(msg.find("list length 2147483647 is out of range"), std::string::npos) << msg;
     // In ASCII the length must match the values on the line.
     s = asciiPly(kStrip);

@@ -29,7 +29,7 @@ using helpers::Remeshed;
 
 /// Field and remesher both with feature angle `angleDeg` (0: off), L = relativeEdge × diagonal,
 /// the field ignoring creases shorter than 2 L as the remesher does (what `rosyhatch remesh` sets).
-Remeshed run(const Mesh &mesh, double relativeEdge, double angleDeg) {
+Remeshed remeshWithFeatures(const Mesh &mesh, double relativeEdge, double angleDeg) {
     field::FieldSpec spec;
     spec.featureAngleDeg = angleDeg;
     spec.featureMinLength = 2 * relativeEdge;
@@ -40,7 +40,7 @@ Remeshed run(const Mesh &mesh, double relativeEdge, double angleDeg) {
 
 // A CGAL sample mesh from data/meshes (tools/setup.sh) remeshed at L = 1 %.
 Remeshed runSample(const std::string &file) {
-    return run(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/" + file), 0.01, 50);
+    return remeshWithFeatures(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/" + file), 0.01, 50);
 }
 
 double segmentDistance(const Vec3 &x, const Vec3 &a, const Vec3 &b) {
@@ -55,7 +55,7 @@ double segmentDistance(const Vec3 &x, const Vec3 &a, const Vec3 &b) {
 // smoothest) field does not run along the edges and the same checks fail.
 TEST(RemeshFeatures, CubeKeepsItsEdgesAndCorners) {
     const Mesh cube = field::makeCube(8);
-    const Remeshed r = run(cube, 0.07, 50);
+    const Remeshed r = remeshWithFeatures(cube, 0.07, 50);
     const QualityReport &q = r.quality;
     EXPECT_TRUE(q.closed) << q.boundaryEdges;
     expectValid(q, 2);
@@ -96,7 +96,7 @@ TEST(RemeshFeatures, CubeKeepsItsEdgesAndCorners) {
     EXPECT_EQ(uncovered, 0) << "of 12 x 41 samples along the cube's edges";
 
     // The same cube without features misses its edges (the test can fail).
-    const Remeshed off = run(cube, 0.07, 0);
+    const Remeshed off = remeshWithFeatures(cube, 0.07, 0);
     EXPECT_GT(off.quality.distanceInToOutPct, 1.0);
 }
 
@@ -112,7 +112,7 @@ TEST(RemeshFeatures, FandiskWithinHalfAPercentBothWays) {
 #else
     const double edge = 0.01, bound = 0.5;
 #endif
-    const Remeshed r = run(mesh, edge, 50);
+    const Remeshed r = remeshWithFeatures(mesh, edge, 50);
     EXPECT_TRUE(r.quality.closed);
     expectValid(r.quality, 2);
     EXPECT_LE(r.quality.distanceInToOutPct, bound);
@@ -144,7 +144,7 @@ TEST(RemeshFeatures, BunnyEarFoldedQuadIsCutAndTheDistanceHolds) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "several times slower under the sanitizers; the Release suite runs it";
 #endif
-    const Remeshed r = run(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/bunny00.off"), 0.0098, 50);
+    const Remeshed r = remeshWithFeatures(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/bunny00.off"), 0.0098, 50);
     EXPECT_TRUE(r.quality.closed);
     expectValid(r.quality, 2);
     EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
@@ -190,7 +190,7 @@ TEST(RemeshFeatures, HandKeepsItsTopologyWhereTheLatticeTangles) {
 // rim gets about 2π / L boundary edges. Without features the openings are capped.
 TEST(RemeshFeatures, CylinderBoundaryIsFollowed) {
     const Mesh tube = field::makeCylinder(1.0, 2.0, 48, 24);
-    const Remeshed r = run(tube, 0.04, 50);
+    const Remeshed r = remeshWithFeatures(tube, 0.04, 50);
     const QualityReport &q = r.quality;
     EXPECT_FALSE(q.closed);
     expectValid(q, 0);
@@ -217,7 +217,7 @@ TEST(RemeshFeatures, CylinderBoundaryIsFollowed) {
         EXPECT_GT(rimEdges[side], 0.8 * expected) << side;
         EXPECT_LT(rimEdges[side], 1.25 * expected) << side;
     }
-    const Remeshed off = run(tube, 0.04, 0);
+    const Remeshed off = remeshWithFeatures(tube, 0.04, 0);
     EXPECT_TRUE(off.quality.closed); // the behaviour features change
 }
 
@@ -295,7 +295,7 @@ void expectBoundaryFollowed(const Mesh &mesh, const Remeshed &r, const std::vect
 // and the output's boundary is the square's.
 TEST(RemeshFeatures, SquarePatchKeepsItsCorners) {
     const Mesh grid = field::makeGrid(16);
-    const Remeshed r = run(grid, 0.07, 50);
+    const Remeshed r = remeshWithFeatures(grid, 0.07, 50);
     EXPECT_FALSE(r.quality.closed);
     expectValid(r.quality, 1);
     expectBoundaryFollowed(grid, r, {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}});
@@ -305,7 +305,7 @@ TEST(RemeshFeatures, SquarePatchKeepsItsCorners) {
 // and one reflex corner at the origin, all output vertices.
 TEST(RemeshFeatures, LShapedPatchKeepsItsCorners) {
     const Mesh patch = keepFaces(field::makeGrid(16), [](const Vec3 &c) { return c.x() < 0 || c.y() < 0; });
-    const Remeshed r = run(patch, 0.07, 50);
+    const Remeshed r = remeshWithFeatures(patch, 0.07, 50);
     EXPECT_FALSE(r.quality.closed);
     expectValid(r.quality, 1);
     expectBoundaryFollowed(patch, r,
@@ -317,7 +317,7 @@ TEST(RemeshFeatures, LShapedPatchKeepsItsCorners) {
 // output vertices; the rim is followed; a disk, χ 1.
 TEST(RemeshFeatures, OpenBoxKeepsItsRimCorners) {
     const Mesh box = keepFaces(field::makeCube(8), [](const Vec3 &c) { return c.z() < 1 - 1e-9; });
-    const Remeshed r = run(box, 0.07, 50);
+    const Remeshed r = remeshWithFeatures(box, 0.07, 50);
     EXPECT_FALSE(r.quality.closed);
     expectValid(r.quality, 1);
     std::vector<Vec3> corners;
@@ -333,7 +333,7 @@ TEST(RemeshFeatures, SameOutputForAnyThreadCount) {
     std::vector<Remeshed> runs;
     for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-        runs.push_back(run(cube, 0.05, 50));
+        runs.push_back(remeshWithFeatures(cube, 0.05, 50));
     }
     ASSERT_EQ(runs[0].result.polygons, runs[1].result.polygons);
     ASSERT_EQ(runs[0].result.positions, runs[1].result.positions);
@@ -363,7 +363,7 @@ TEST(RemeshFeatures, RightTriangleKeepsItsAcuteCorners) {
     const Mesh tri = makeTrianglePatch({-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}, 24);
     for (double edge : {0.03, 0.08}) {
         SCOPED_TRACE("L " + std::to_string(edge) + " of the diagonal");
-        const Remeshed r = run(tri, edge, 50);
+        const Remeshed r = remeshWithFeatures(tri, edge, 50);
         EXPECT_FALSE(r.quality.closed);
         expectValid(r.quality, 1);
         expectBoundaryFollowed(tri, r, {{-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}});
@@ -400,7 +400,7 @@ TEST(RemeshFeatures, OpeningAsWideAsTheEdgeStaysOpen) {
             const Mesh ring = makeAnnulus(0.5 * L, 96, 24, bend);
             field::Vec3 lo, hi;
             ring.bounds(lo, hi);
-            const Remeshed r = run(ring, L / (hi - lo).norm(), 50);
+            const Remeshed r = remeshWithFeatures(ring, L / (hi - lo).norm(), 50);
             SCOPED_TRACE("bend " + std::to_string(bend) + ", L " + std::to_string(L));
             EXPECT_FALSE(r.quality.closed);
             expectValid(r.quality, 0);

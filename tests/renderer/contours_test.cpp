@@ -10,6 +10,8 @@
 #include "renderer/view/embree_scene.h"
 #include "renderer/view/gbuffer.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -23,7 +25,6 @@ using rosy::field::Mesh;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct Contours {
     StrokeList strokes;
@@ -112,7 +113,7 @@ TEST(Contours, SphereSilhouetteIsOneLoopOnTheAnalyticCircle) {
 
     // The silhouette cone of a sphere has half-angle asin(r/d); on the unit image plane
     // its trace is a circle of radius tan(asin(r/d)) = r / sqrt(d^2 - r^2).
-    double scale = 0.5 * size / std::tan(0.5 * fov * kPi / 180.0);
+    double scale = 0.5 * size / std::tan(0.5 * fov * rosy::test::kPi / 180.0);
     double radiusPx = scale / std::sqrt(distance * distance - 1.0);
     Vec2 centre(0.5 * size, 0.5 * size);
 
@@ -121,7 +122,7 @@ TEST(Contours, SphereSilhouetteIsOneLoopOnTheAnalyticCircle) {
     EXPECT_EQ(s.kind, StrokeKind::Contour);
     EXPECT_LE((s.points.front() - s.points.back()).norm(), 2.0);
     for (const Vec2 &p : s.points) EXPECT_NEAR((p - centre).norm(), radiusPx, 1.0);
-    EXPECT_NEAR(strokeLength(s), 2.0 * kPi * radiusPx, 0.02 * 2.0 * kPi * radiusPx);
+    EXPECT_NEAR(strokeLength(s), 2.0 * rosy::test::kPi * radiusPx, 0.02 * 2.0 * rosy::test::kPi * radiusPx);
     ASSERT_EQ(s.widths.size(), s.points.size());
     for (float w : s.widths) EXPECT_FLOAT_EQ(w, 2.0f); // a closed loop has no tapered ends
     EXPECT_EQ(c.report.nCreaseSegments, 0);
@@ -137,7 +138,7 @@ TEST(Contours, WideSilhouetteLinesStayWithinAPixelOfTheOutline) {
     const int size = 256;
     const double distance = 4.0, fov = 40.0;
     Camera cam = Camera::perspective(Vec3(0, 0, distance), Vec3::Zero(), Vec3(0, 1, 0), fov, size, size);
-    const double scale = 0.5 * size / std::tan(0.5 * fov * kPi / 180.0);
+    const double scale = 0.5 * size / std::tan(0.5 * fov * rosy::test::kPi / 180.0);
     const double radiusPx = scale / std::sqrt(distance * distance - 1.0);
     const Vec2 centre(0.5 * size, 0.5 * size);
     for (double width : {1.6, 3.0, 5.0}) {
@@ -267,7 +268,7 @@ TEST(Contours, ScanNoiseDrawsNoCreasesWhileFoldsStay) {
     EXPECT_GT(judged.report.nSmallLoopsDropped, 20);
     // What is drawn is the outline: every point near the sphere's projected circle,
     // of radius f tan(asin(1 / 3.2)) for the focal length f in pixels.
-    const double r = 256.0 / std::tan(0.5 * 45.0 * kPi / 180.0) / std::sqrt(3.2 * 3.2 - 1.0);
+    const double r = 256.0 / std::tan(0.5 * 45.0 * rosy::test::kPi / 180.0) / std::sqrt(3.2 * 3.2 - 1.0);
     for (const Stroke &st : judged.strokes.strokes)
         for (const Vec2 &q : st.points) EXPECT_NEAR((q - Vec2(256, 256)).norm(), r, 6.0);
 

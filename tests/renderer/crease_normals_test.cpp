@@ -12,6 +12,8 @@
 #include "renderer/view/gbuffer.h"
 #include "test_meshes.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,7 +23,6 @@ using namespace rosy::renderer;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 /// Quad (a, b, c, d), counter-clockwise seen from outside, as two triangles.
 void addQuad(std::vector<field::Face> &faces, int a, int b, int c, int d) {
@@ -59,32 +60,32 @@ field::Mesh makeFoldedStrip(double fold) {
 }
 
 double angleDeg(const Vec3 &a, const Vec3 &b) {
-    return std::atan2(a.cross(b).norm(), a.dot(b)) / kDeg;
+    return std::atan2(a.cross(b).norm(), a.dot(b)) / test::kDeg;
 }
 
 } // namespace
 
 TEST(CreaseNormals, CubeCornersKeepTheirFaceNormals) {
     const field::Mesh cube = makeCube();
-    const std::vector<Vec3> n = creaseAwareCornerNormals(cube, 45 * kDeg);
+    const std::vector<Vec3> n = creaseAwareCornerNormals(cube, 45 * test::kDeg);
     ASSERT_EQ(int(n.size()), 3 * cube.nFaces());
     const Vec3 axes[6] = {-Vec3::UnitZ(), Vec3::UnitZ(), -Vec3::UnitY(), Vec3::UnitY(), -Vec3::UnitX(), Vec3::UnitX()};
     for (int f = 0; f < cube.nFaces(); ++f)
         for (int k = 0; k < 3; ++k)
             EXPECT_LT((n[size_t(3 * f + k)] - axes[f / 2]).norm(), 1e-12) << "face " << f << " corner " << k;
     // The vertex normal averages the three sides: the diagonal, 54.7° off each face.
-    EXPECT_NEAR(angleDeg(cube.vertexNormal(7), Vec3::UnitX()), std::acos(1 / std::sqrt(3.0)) / kDeg, 1e-9);
+    EXPECT_NEAR(angleDeg(cube.vertexNormal(7), Vec3::UnitX()), std::acos(1 / std::sqrt(3.0)) / test::kDeg, 1e-9);
 }
 
 TEST(CreaseNormals, FoldBelowTheCreaseAngleIsAveragedAndAboveItIsNot) {
-    const double crease = 45 * kDeg;
+    const double crease = 45 * test::kDeg;
     for (const double foldDeg : {0.0, 20.0, 40.0, 50.0, 90.0, 150.0}) {
-        const field::Mesh strip = makeFoldedStrip(foldDeg * kDeg);
+        const field::Mesh strip = makeFoldedStrip(foldDeg * test::kDeg);
         const std::vector<Vec3> n = creaseAwareCornerNormals(strip, crease);
         const Vec3 flat = Vec3::UnitZ();
-        const Vec3 folded(0, -std::sin(foldDeg * kDeg), std::cos(foldDeg * kDeg));
+        const Vec3 folded(0, -std::sin(foldDeg * test::kDeg), std::cos(foldDeg * test::kDeg));
         // Equal angle sums on both sides: the average is the bisector of the two normals.
-        const Vec3 bisector(0, -std::sin(0.5 * foldDeg * kDeg), std::cos(0.5 * foldDeg * kDeg));
+        const Vec3 bisector(0, -std::sin(0.5 * foldDeg * test::kDeg), std::cos(0.5 * foldDeg * test::kDeg));
         for (int f = 0; f < strip.nFaces(); ++f)
             for (int k = 0; k < 3; ++k) {
                 const int v = strip.face(f)[size_t(k)];
@@ -100,7 +101,7 @@ TEST(CreaseNormals, SmoothSurfaceCornersAreItsNormal) {
     // Level 4: 2,048 faces, neighbouring faces about 5° apart, all under the crease angle.
     const field::Mesh sphere = test::makeSphere(4);
     std::vector<Vec3> vertexNormals;
-    const std::vector<Vec3> n = creaseAwareCornerNormals(sphere, kCreaseAngleDeg * kDeg, &vertexNormals);
+    const std::vector<Vec3> n = creaseAwareCornerNormals(sphere, kCreaseAngleDeg * test::kDeg, &vertexNormals);
     ASSERT_EQ(int(vertexNormals.size()), sphere.nVertices());
     for (int v = 0; v < sphere.nVertices(); ++v) EXPECT_EQ(vertexNormals[size_t(v)], sphere.vertexNormal(v)) << v;
     double worst = 0, spread = 0;
@@ -123,13 +124,13 @@ TEST(CreaseNormals, BoundaryAndCreaseStopTheWalkFromBothSides) {
     std::vector<Vec3> p = {Vec3(0, 0, 0), Vec3(1, -1, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -1), Vec3(0, -1, -1)};
     std::vector<field::Face> f = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
     const field::Mesh fan = field::Mesh::fromTriangles(p, f, "fan");
-    const std::vector<Vec3> n = creaseAwareCornerNormals(fan, 45 * kDeg);
+    const std::vector<Vec3> n = creaseAwareCornerNormals(fan, 45 * test::kDeg);
     EXPECT_LT((n[0] - Vec3::UnitZ()).norm(), 1e-12);
     EXPECT_LT((n[3] - Vec3::UnitZ()).norm(), 1e-12);
     EXPECT_LT((n[6] + Vec3::UnitX()).norm(), 1e-12);
     EXPECT_LT((n[9] + Vec3::UnitX()).norm(), 1e-12);
     // Above the fold's 90° nothing is a crease: one normal for the whole fan, between the two.
-    const std::vector<Vec3> all = creaseAwareCornerNormals(fan, 100 * kDeg);
+    const std::vector<Vec3> all = creaseAwareCornerNormals(fan, 100 * test::kDeg);
     for (int h : {0, 3, 6, 9}) EXPECT_NEAR(angleDeg(all[size_t(h)], Vec3(-1, 0, 1)), 0.0, 1e-9);
 }
 
@@ -139,7 +140,7 @@ TEST(ScreenField, DirectionsTurnSmoothlyAcrossAGentleFold) {
     // flaps' shading normals meet in the bisector at the fold, so the screen direction
     // of that member is the same on both sides of it; taken from each face's own
     // plane it would jump there by the angle between the two projections.
-    const double fold = 30 * kDeg;
+    const double fold = 30 * test::kDeg;
     const field::Mesh strip = makeFoldedStrip(fold);
     const field::TangentFrames frames(strip);
     field::DesignElement e;
@@ -154,7 +155,7 @@ TEST(ScreenField, DirectionsTurnSmoothlyAcrossAGentleFold) {
 
     auto lineDeg = [](double a, double b) {
         const double d = std::fmod(std::abs(a - b), M_PI);
-        return std::min(d, M_PI - d) / kDeg;
+        return std::min(d, M_PI - d) / test::kDeg;
     };
     auto screenDir = [&](const Vec3 &p, const Vec3 &t) {
         return (cam.project(p + 1e-5 * t) - cam.project(p - 1e-5 * t)).normalized();

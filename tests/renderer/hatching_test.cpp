@@ -13,6 +13,8 @@
 #include "renderer/strokes/hatching.h"
 #include "renderer/strokes/screen_field.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -25,7 +27,6 @@ using namespace rosy::renderer;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 /// A mesh, its field and everything the hatcher needs, rendered once.
 struct Scene {
@@ -65,7 +66,7 @@ Vec2 projectedDirection(const Camera &cam, const Vec3 &p, const Vec3 &t) {
 /// Angle in degrees between two screen lines (mod π).
 double lineAngleDeg(const Vec2 &a, const Vec2 &b) {
     const double c = std::min(1.0, std::abs(a.normalized().dot(b.normalized())));
-    return std::acos(c) / kDeg;
+    return std::acos(c) / test::kDeg;
 }
 
 Scene tiltedPlane(int size) {
@@ -138,7 +139,7 @@ TEST(ScreenField, DirectionsFollowTheExactPerspectiveProjection) {
     EXPECT_LT(worst, 0.05);
     // The receding family really converges: dropping z would have made it vertical everywhere.
     const size_t left = size_t(s.gbuffer.index(20, 48)), right = size_t(s.gbuffer.index(76, 48));
-    EXPECT_GT(std::abs(s.screen.angle(1, left) - s.screen.angle(1, right)) / kDeg, 5.0);
+    EXPECT_GT(std::abs(s.screen.angle(1, left) - s.screen.angle(1, right)) / test::kDeg, 5.0);
 }
 
 // valid() and lineNear() tell a valid pixel by its directions: a pixel that sees the

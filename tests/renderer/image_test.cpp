@@ -4,6 +4,8 @@
 #include "core/error.h"
 
 #include <OpenImageIO/imageio.h>
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <zlib.h>
@@ -23,12 +25,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string &name) {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "image" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
 
 struct ReadBack {
     OIIO::ImageSpec spec;
@@ -116,7 +112,7 @@ TEST(LinearToSrgb, EightBitCodesAreTheRoundedCurveForEveryFloat) {
 }
 
 TEST(WriteImage, PngRoundTripIsSrgbEncoded) {
-    fs::path dir = freshDir("png");
+    fs::path dir = rosy::test::freshDir("image", "png");
     Image img(4, 2, {"R", "G", "B"});
     // Hand-computed 8-bit sRGB codes: round(255 * srgb(v)).
     const float in[8] = {0.0f, 1.0f, 0.5f, 0.18f, 0.001f, 0.05f, 0.8f, 2.0f};
@@ -140,7 +136,7 @@ TEST(WriteImage, PngRoundTripIsSrgbEncoded) {
 }
 
 TEST(WriteImage, PngAlphaStaysLinear) {
-    fs::path dir = freshDir("alpha");
+    fs::path dir = rosy::test::freshDir("image", "alpha");
     Image img(1, 1, {"R", "G", "B", "A"});
     img.at(0, 0, 0) = 0.5f;
     img.at(0, 0, 3) = 0.5f;
@@ -153,7 +149,7 @@ TEST(WriteImage, PngAlphaStaysLinear) {
 }
 
 TEST(WriteImage, ExrKeepsFloatsAndChannelNames) {
-    fs::path dir = freshDir("exr");
+    fs::path dir = rosy::test::freshDir("image", "exr");
     Image img(3, 2, {"R", "G", "B", "A", "depth"});
     for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i) * 1.25f - 7.0f;
     img.data[7] = 123456.5f;
@@ -168,7 +164,7 @@ TEST(WriteImage, ExrKeepsFloatsAndChannelNames) {
 }
 
 TEST(WriteImage, ExrHalfStoresHalfFloats) {
-    fs::path dir = freshDir("half");
+    fs::path dir = rosy::test::freshDir("image", "half");
     Image img(2, 1, {"Y"});
     img.data = {0.5f, -2.25f}; // exactly representable in half
     ImageWriteOptions opt;
@@ -180,7 +176,7 @@ TEST(WriteImage, ExrHalfStoresHalfFloats) {
 }
 
 TEST(WriteImage, UnknownExtensionIsAnInputErrorListingFormats) {
-    fs::path dir = freshDir("ext");
+    fs::path dir = rosy::test::freshDir("image", "ext");
     Image img(1, 1, {"R", "G", "B"});
     std::string path = (dir / "out.bmp").string();
     try {
@@ -196,7 +192,7 @@ TEST(WriteImage, UnknownExtensionIsAnInputErrorListingFormats) {
 }
 
 TEST(WriteImage, MissingFolderIsAnIoError) {
-    fs::path dir = freshDir("missing");
+    fs::path dir = rosy::test::freshDir("image", "missing");
     std::string path = (dir / "no-such-folder" / "x.png").string();
     Image img(2, 2, {"R", "G", "B"});
     EXPECT_THROW(writeImage(img, path), rosy::IoError);
@@ -204,7 +200,7 @@ TEST(WriteImage, MissingFolderIsAnIoError) {
 }
 
 TEST(WriteImage, FailedWriteLeavesExistingFileAndNoTemporary) {
-    fs::path dir = freshDir("failed");
+    fs::path dir = rosy::test::freshDir("image", "failed");
     const fs::path path = dir / "picture.png";
     {
         std::ofstream(path, std::ios::binary) << "precious";
@@ -235,7 +231,7 @@ TEST(WriteImage, FailedWriteLeavesExistingFileAndNoTemporary) {
 
 TEST(WriteImage, LongLegalNamesAreWritten) {
     // A 249-byte name is legal; the temporary beside it must not exceed NAME_MAX.
-    fs::path dir = freshDir("longname");
+    fs::path dir = rosy::test::freshDir("image", "longname");
     const fs::path path = dir / (std::string(245, 'k') + ".png");
     writeImage(Image(2, 2, {"R", "G", "B"}), path.string());
     EXPECT_TRUE(fs::is_regular_file(path));
@@ -243,14 +239,14 @@ TEST(WriteImage, LongLegalNamesAreWritten) {
 }
 
 TEST(WriteImage, OversizedJpegIsAnInputError) {
-    fs::path dir = freshDir("jpeg");
+    fs::path dir = rosy::test::freshDir("image", "jpeg");
     Image img(70000, 1, {"R", "G", "B"});
     EXPECT_THROW(writeImage(img, (dir / "wide.jpg").string()), rosy::InputError);
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 0);
 }
 
 TEST(WriteImage, EqualImagesGiveEqualFiles) {
-    fs::path dir = freshDir("determinism");
+    fs::path dir = rosy::test::freshDir("image", "determinism");
     Image img(8, 8, {"R", "G", "B"});
     for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i % 17) / 16.0f;
     for (const char *ext : {".png", ".exr", ".tif", ".jpg"}) {
@@ -267,7 +263,7 @@ TEST(WriteImage, PngIsTheFileOpenImageIoWrites) {
     // the header writeImage() used to hand it (DateTime empty, sRGB colour space,
     // straight alpha), for every channel layout and for images on which libpng's
     // adaptive filter picks different filters row by row.
-    fs::path dir = freshDir("png-bytes");
+    fs::path dir = rosy::test::freshDir("image", "png-bytes");
     const std::vector<std::vector<std::string>> layouts = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
     for (const auto &names : layouts) {
         for (const auto &[w, h] : std::vector<std::pair<int, int>>{{3, 5}, {301, 187}}) {
@@ -366,7 +362,7 @@ TEST(WritePng, LargeImagesAreCompressedInSegmentsWithLibpngsFilters) {
             ASSERT_TRUE(encodePng8(w, h, nc, pixels.data(), oneThread, error)) << error;
         }
         EXPECT_TRUE(ours == oneThread) << nc;
-        const fs::path dir = freshDir("png-large-" + std::to_string(nc));
+        const fs::path dir = rosy::test::freshDir("image", "png-large-" + std::to_string(nc));
         const fs::path file = dir / "ours.png", theirs = dir / "oiio.png";
         std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char *>(ours.data()),
                                                     std::streamsize(ours.size()));

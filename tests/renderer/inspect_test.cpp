@@ -7,6 +7,8 @@
 #include "renderer/output/image.h"
 #include "renderer/output/raster.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,8 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 /// Anti-aliased coverage of a straight band of width w at distance d from its axis.
 float band(double d, double w) { return float(std::clamp(std::min(w, w / 2 + 0.5 - std::fabs(d)), 0.0, 1.0)); }
@@ -55,7 +55,7 @@ InkMaps drawing(int size, const std::vector<float> &hatch0, double angle0Rad, do
     m.coverage = hatch0;
     m.target.assign(n, float(target));
     m.angle0.assign(n, float(angle0Rad));
-    m.angle1.assign(n, float(angle0Rad + kPi / 2));
+    m.angle1.assign(n, float(angle0Rad + rosy::test::kPi / 2));
     m.mask.assign(n, 0.0f);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)
@@ -67,7 +67,7 @@ InkMaps drawing(int size, const std::vector<float> &hatch0, double angle0Rad, do
 } // namespace
 
 TEST(InspectInk, AlignedLinesHaveZeroAlignmentError) {
-    const double angle = 30 * kDeg;
+    const double angle = 30 * rosy::test::kDeg;
     InkMaps m = drawing(200, lines(200, angle, evenOffsets(8.0, 15), 1.5), angle, 0.2);
     m.hatchSpacingPx = 8.0;
     InspectResult r = inspectInk(m);
@@ -77,8 +77,8 @@ TEST(InspectInk, AlignedLinesHaveZeroAlignmentError) {
 }
 
 TEST(InspectInk, FieldRotatedByTwentyDegreesGivesTwenty) {
-    const double angle = 30 * kDeg;
-    InkMaps m = drawing(200, lines(200, angle, evenOffsets(8.0, 15), 1.5), angle + 20 * kDeg, 0.2);
+    const double angle = 30 * rosy::test::kDeg;
+    InkMaps m = drawing(200, lines(200, angle, evenOffsets(8.0, 15), 1.5), angle + 20 * rosy::test::kDeg, 0.2);
     m.hatchSpacingPx = 8.0;
     InspectResult r = inspectInk(m);
     EXPECT_NEAR(r.alignmentMedianDeg, 20.0, 0.5);
@@ -87,8 +87,8 @@ TEST(InspectInk, FieldRotatedByTwentyDegreesGivesTwenty) {
 
 TEST(InspectInk, FamiliesMaySwapLabels) {
     // Family-0 ink drawn along the field's second direction still counts as aligned.
-    const double angle = -50 * kDeg;
-    InkMaps m = drawing(160, lines(160, angle, evenOffsets(7.0, 14), 1.2), angle + kPi / 2, 0.2);
+    const double angle = -50 * rosy::test::kDeg;
+    InkMaps m = drawing(160, lines(160, angle, evenOffsets(7.0, 14), 1.2), angle + rosy::test::kPi / 2, 0.2);
     InspectResult r = inspectInk(m);
     EXPECT_LT(r.alignmentMedianDeg, 0.5);
 }
@@ -106,7 +106,7 @@ TEST(InspectInk, UniformCoverageEqualToTargetHasNoToneError) {
 
 TEST(InspectInk, HatchesBlurToTheirMeanCoverage) {
     // Lines of width 2 every 8 px cover 2/8 = 0.25 of the paper.
-    const double angle = 20 * kDeg;
+    const double angle = 20 * rosy::test::kDeg;
     InkMaps m = drawing(200, lines(200, angle, evenOffsets(8.0, 15), 2.0), angle, 0.25);
     m.hatchSpacingPx = 8.0;
     InspectResult r = inspectInk(m);
@@ -139,7 +139,7 @@ TEST(InspectInk, InkOutsideTheSilhouetteIsCountedExactly) {
 }
 
 TEST(InspectInk, EvenSpacingHasZeroSpreadJitteredSpacingHasSome) {
-    const double angle = 65 * kDeg, s = 9.0;
+    const double angle = 65 * rosy::test::kDeg, s = 9.0;
     InkMaps even = drawing(220, lines(220, angle, evenOffsets(s, 14), 1.5), angle, 0.2);
     InspectResult re = inspectInk(even);
     EXPECT_GT(re.spacingSamples, 100);
@@ -194,7 +194,7 @@ TEST(InspectInk, EmptyDrawingGivesNoMeasures) {
 
 TEST(ReadInkMaps, RoundTripThroughTheRenderExr) {
     const int size = 96;
-    const double angle = 40 * kDeg;
+    const double angle = 40 * rosy::test::kDeg;
     InkLayers layers;
     layers.width = layers.height = size;
     layers.hatch0 = lines(size, angle, evenOffsets(6.0, 12), 1.3);
@@ -203,7 +203,7 @@ TEST(ReadInkMaps, RoundTripThroughTheRenderExr) {
     size_t n = size_t(size * size);
     surf.mask.assign(n, 1.0f);
     surf.angle0.assign(n, float(angle));
-    surf.angle1.assign(n, float(angle + kPi / 2));
+    surf.angle1.assign(n, float(angle + rosy::test::kPi / 2));
     surf.targetDensity.assign(n, 0.2f);
     fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "inspect";
     fs::create_directories(dir);
@@ -241,8 +241,8 @@ namespace {
 /// Even cross-hatching on the disc: two families of lines 1.8 px wide, 3.6 px apart
 /// (each covers half the paper, together 75 %), a target of 0.6 (cross tone).
 InkMaps crossHatched(int size) {
-    InkMaps m = drawing(size, lines(size, 20 * kDeg, evenOffsets(3.6, 60), 1.8), 20 * kDeg, 0.6);
-    m.hatch1 = lines(size, 110 * kDeg, evenOffsets(3.6, 60), 1.8);
+    InkMaps m = drawing(size, lines(size, 20 * rosy::test::kDeg, evenOffsets(3.6, 60), 1.8), 20 * rosy::test::kDeg, 0.6);
+    m.hatch1 = lines(size, 110 * rosy::test::kDeg, evenOffsets(3.6, 60), 1.8);
     for (size_t i = 0; i < m.coverage.size(); ++i) {
         m.coverage[i] = 1.0f - (1.0f - m.hatch0[i]) * (1.0f - m.hatch1[i]);
         m.coverage[i] *= m.mask[i];
@@ -282,7 +282,7 @@ TEST(InspectInk, EvenCrossHatchingHasNoSeam) {
 
 TEST(InspectInk, ACrackThroughBothFamiliesIsASeam) {
     InkMaps m = crossHatched(200);
-    crack(m, 65 * kDeg, 10.0, 4.0); // an 8 px light curve, two spacings wide
+    crack(m, 65 * rosy::test::kDeg, 10.0, 4.0); // an 8 px light curve, two spacings wide
     InspectOptions o;
     o.keepSeamMask = true;
     const InspectResult r = inspectInk(m, o);
@@ -303,7 +303,7 @@ TEST(InspectInk, SeamsAloneReadOnlyCoverageTargetAndMask) {
     // compare's panels need seam_fraction only: inspectSeams() gives inspectInk()'s
     // seam figures with the hatch layers and angles absent.
     InkMaps m = crossHatched(200);
-    crack(m, 65 * kDeg, 10.0, 4.0);
+    crack(m, 65 * rosy::test::kDeg, 10.0, 4.0);
     InspectOptions o;
     o.keepSeamMask = true;
     const InspectResult full = inspectInk(m, o);
@@ -328,7 +328,7 @@ TEST(InspectInk, OneMissingLineOrASmallHoleIsNoSeam) {
     InkMaps m = crossHatched(200);
     for (size_t i = 0; i < m.coverage.size(); ++i) {
         const int x = int(i % 200), y = int(i / 200);
-        const double t = (x + 0.5 - 100) * -std::sin(20 * kDeg) + (y + 0.5 - 100) * std::cos(20 * kDeg);
+        const double t = (x + 0.5 - 100) * -std::sin(20 * rosy::test::kDeg) + (y + 0.5 - 100) * std::cos(20 * rosy::test::kDeg);
         if (std::fabs(t - 0.3) < 1.5) m.hatch0[i] = 0.0f;
         m.coverage[i] = m.mask[i] * (1.0f - (1.0f - m.hatch0[i]) * (1.0f - m.hatch1[i]));
     }
@@ -339,7 +339,7 @@ TEST(InspectInk, OneMissingLineOrASmallHoleIsNoSeam) {
     EXPECT_EQ(inspectInk(hole).seamPixels, 0);
     // Light tone (below the cross density) is never measured.
     InkMaps light = crossHatched(200);
-    crack(light, 65 * kDeg, 10.0, 4.0);
+    crack(light, 65 * rosy::test::kDeg, 10.0, 4.0);
     light.target.assign(light.target.size(), 0.3f);
     const InspectResult r = inspectInk(light);
     EXPECT_EQ(r.crossPixels, 0);

@@ -19,12 +19,12 @@ using field::Vec3;
 
 namespace {
 
-constexpr int kSize = 256;
+constexpr int kPictureSize = 256;
 
 // A corner view of the unit cube centred at the origin: the corner (1,1,1)/2 faces
 // the eye, (-1,-1,-1)/2 is hidden behind the solid; the other six are on the outline.
 Camera cornerCamera() {
-    return Camera::perspective(Vec3(3.2, 2.6, 3.0), Vec3::Zero(), Vec3(0, 1, 0), 30.0, kSize, kSize);
+    return Camera::perspective(Vec3(3.2, 2.6, 3.0), Vec3::Zero(), Vec3(0, 1, 0), 30.0, kPictureSize, kPictureSize);
 }
 
 std::vector<Vec3> cubeCorners() {
@@ -48,7 +48,7 @@ const FieldInk &inkNamed(const FieldDrawing &d, const std::string &name) {
 
 TEST(MeshPicture, CubeShowsItsSevenVisibleCornersAsLowValenceDots) {
     const FieldDrawing d = drawMeshPicture(cubeCorners(), cubeQuads(), {}, cornerCamera());
-    EXPECT_EQ(d.width, kSize);
+    EXPECT_EQ(d.width, kPictureSize);
     // All eight corners have valence 3 < 4; the one behind the cube is hidden.
     EXPECT_EQ(inkNamed(d, "low-valence vertices").strokes.strokes.size(), 7u);
     EXPECT_TRUE(inkNamed(d, "high-valence vertices").strokes.strokes.empty());
@@ -59,7 +59,7 @@ TEST(MeshPicture, CubeShowsItsSevenVisibleCornersAsLowValenceDots) {
     EXPECT_GE(edges.size(), 9u);
     EXPECT_LE(edges.size(), 12u);
     // Quads only: no tint, the surface is grey (R = G = B) everywhere.
-    for (size_t i = 0; i < size_t(kSize) * kSize; ++i)
+    for (size_t i = 0; i < size_t(kPictureSize) * kPictureSize; ++i)
         ASSERT_EQ(d.fill.data[3 * i], d.fill.data[3 * i + 2]) << "pixel " << i;
 }
 
@@ -68,12 +68,12 @@ TEST(MeshPicture, TrianglesOfAQuadMeshAreTintedAndQuadsAreNot) {
     const std::vector<Vec3> p{{-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {0.5, -0.5, 0.5}, {-0.5, -0.5, 0.5}, {0, 0.5, 0}};
     const std::vector<std::vector<int>> faces{{0, 1, 2, 3}, {0, 4, 1}, {1, 4, 2}, {2, 4, 3}, {3, 4, 0}};
     // Seen from above: only triangles; from below: only the base quad.
-    const Camera above = Camera::perspective(Vec3(0.4, 3.5, 0.6), Vec3::Zero(), Vec3(0, 0, -1), 30.0, kSize, kSize);
-    const Camera below = Camera::perspective(Vec3(0.4, -3.5, 0.6), Vec3::Zero(), Vec3(0, 0, -1), 30.0, kSize, kSize);
+    const Camera above = Camera::perspective(Vec3(0.4, 3.5, 0.6), Vec3::Zero(), Vec3(0, 0, -1), 30.0, kPictureSize, kPictureSize);
+    const Camera below = Camera::perspective(Vec3(0.4, -3.5, 0.6), Vec3::Zero(), Vec3(0, 0, -1), 30.0, kPictureSize, kPictureSize);
     const FieldDrawing a = drawMeshPicture(p, faces, {}, above);
     const FieldDrawing b = drawMeshPicture(p, faces, {}, below);
-    const int c = kSize / 2;
-    const size_t centre = size_t(c * kSize + c) + 2 * kSize; // off the apex, inside a triangle
+    const int c = kPictureSize / 2;
+    const size_t centre = size_t(c * kPictureSize + c) + 2 * kPictureSize; // off the apex, inside a triangle
     // Above: yellow (blue channel well under red), below: grey (equal channels).
     EXPECT_LT(a.fill.data[3 * centre + 2], 0.6f * a.fill.data[3 * centre]);
     EXPECT_EQ(b.fill.data[3 * centre + 2], b.fill.data[3 * centre]);

@@ -3,6 +3,8 @@
 #include "core/error.h"
 
 #include <OpenImageIO/imageio.h>
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -20,7 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Stroke line(Eigen::Vector2d a, Eigen::Vector2d b, float width, StrokeKind kind = StrokeKind::Hatch,
             int family = 0) {
@@ -38,19 +39,13 @@ float at(const InkLayers &l, const std::vector<float> &v, int x, int y) {
     return v[size_t(y) * size_t(l.width) + size_t(x)];
 }
 
-fs::path freshDir(const std::string &name) {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "raster" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
 
 /// Many random short strokes of every kind, including overlaps and strokes
 /// leaving the image.
 StrokeList randomStrokes(int width, int height, int count, uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> ux(-10.0, width + 10.0), uy(-10.0, height + 10.0),
-        ang(0.0, 2 * kPi), wid(0.3, 3.0);
+        ang(0.0, 2 * rosy::test::kPi), wid(0.3, 3.0);
     StrokeList list;
     list.width = width;
     list.height = height;
@@ -83,7 +78,7 @@ TEST(RasterizeStrokes, HorizontalStrokeCoversWidthTimesLength) {
         const double L = 150.0;
         list.strokes.push_back(line({20.3, 30.7}, {20.3 + L, 30.7}, w));
         InkLayers layers = rasterizeStrokes(list);
-        double expected = w * L + kPi * w * w / 4.0;
+        double expected = w * L + rosy::test::kPi * w * w / 4.0;
         EXPECT_NEAR(sum(layers.hatch0), expected, 0.02 * w * L) << "width " << w;
         EXPECT_EQ(sum(layers.hatch1), 0.0);
         EXPECT_EQ(sum(layers.contour), 0.0);
@@ -97,7 +92,7 @@ TEST(RasterizeStrokes, DiagonalStrokeCoversWidthTimesLength) {
     list.strokes.push_back(line({10.2, 14.9}, {110.2, 100.9}, w));
     InkLayers layers = rasterizeStrokes(list);
     double L = std::hypot(100.0, 86.0);
-    EXPECT_NEAR(sum(layers.hatch0), w * L + kPi * w * w / 4.0, 0.02 * w * L);
+    EXPECT_NEAR(sum(layers.hatch0), w * L + rosy::test::kPi * w * w / 4.0, 0.02 * w * L);
 }
 
 TEST(RasterizeStrokes, CoverageStaysInUnitInterval) {
@@ -160,7 +155,7 @@ TEST(RasterizeStrokes, WidthIsInterpolatedAlongTheStroke) {
     s.widths = {3.0f, 0.0f};
     list.strokes.push_back(s);
     InkLayers l = rasterizeStrokes(list);
-    EXPECT_NEAR(sum(l.hatch0), 1.5 * 120.0 + kPi * 2.25 / 2.0, 0.03 * 180.0);
+    EXPECT_NEAR(sum(l.hatch0), 1.5 * 120.0 + rosy::test::kPi * 2.25 / 2.0, 0.03 * 180.0);
     // Column sums shrink along the stroke.
     auto column = [&](int x) {
         double c = 0;
@@ -263,7 +258,7 @@ TEST(CompositeInk, HalfCoverageOfBlackOnWhiteIsLinearGrey) {
     ASSERT_EQ(img.nChannels, 4);
     EXPECT_FLOAT_EQ(img.at(1, 1, 0), 0.5f);
     EXPECT_FLOAT_EQ(img.at(1, 1, 3), 1.0f);
-    fs::path dir = freshDir("composite");
+    fs::path dir = rosy::test::freshDir("raster", "composite");
     writeImage(img, (dir / "half.png").string());
     ImageWriteOptions sixteen;
     sixteen.bitsPerChannel = 16;
@@ -385,7 +380,7 @@ TEST(InkExrImage, NamedChannelsAndSpacingAttributeReachTheFile) {
     surf.mask.assign(n, 1.0f);
     surf.mask[0] = 0.0f;
     Image exr = inkExrImage(layers, composite, surf);
-    fs::path path = freshDir("exr") / "ink.exr";
+    fs::path path = rosy::test::freshDir("raster", "exr") / "ink.exr";
     writeImage(exr, path.string(), inkExrWriteOptions(7.5));
 
     auto in = OIIO::ImageInput::open(path.string());
@@ -422,7 +417,7 @@ TEST(RasterizeStrokes, FiftyThousandStrokesAt1024) {
     // Speed smoke test (the benchmark figure is taken with --gtest_repeat): 50 000
     // strokes of about 40 px, 20 segments each, at 1024².
     std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(0.0, 1024.0), ang(0.0, 2 * kPi), bend(-0.05, 0.05);
+    std::uniform_real_distribution<double> u(0.0, 1024.0), ang(0.0, 2 * rosy::test::kPi), bend(-0.05, 0.05);
     StrokeList list;
     list.width = list.height = 1024;
     list.strokes.reserve(50000);
@@ -434,7 +429,7 @@ TEST(RasterizeStrokes, FiftyThousandStrokesAt1024) {
         double a = ang(rng);
         for (int k = 0; k <= 20; ++k) {
             s.points.push_back(p);
-            s.widths.push_back(float(1.2 * std::sin(kPi * (k + 0.5) / 21.0)));
+            s.widths.push_back(float(1.2 * std::sin(rosy::test::kPi * (k + 0.5) / 21.0)));
             a += bend(rng);
             p += 2.0 * Eigen::Vector2d(std::cos(a), std::sin(a));
         }
@@ -459,7 +454,7 @@ TEST(RasterizeStrokes, FiftyThousandStrokesAt1024) {
 }
 
 TEST(WriteImage, SixteenBitsOnlyWhereTheFormatHoldsThem) {
-    fs::path dir = freshDir("bits");
+    fs::path dir = rosy::test::freshDir("raster", "bits");
     Image img(2, 2, {"R", "G", "B"});
     ImageWriteOptions sixteen;
     sixteen.bitsPerChannel = 16;

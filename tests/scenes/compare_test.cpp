@@ -10,6 +10,7 @@
 #include "core/parallel.h"
 #include "field/scan_noise.h"
 #include "../field/scan_like.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -21,19 +22,17 @@ using namespace rosy;
 
 namespace {
 
-const std::string kScenePath = std::string(ROSY_SOURCE_DIR) + "/scenes/compare_test.yaml";
+const std::string kCompareScenePath = std::string(ROSY_SOURCE_DIR) + "/scenes/compare_test.yaml";
 
-const char *kTorus = R"(
+const char *kSmallTorus = R"(
 mesh: {primitive: torus, nu: 48, nv: 24}
 camera: {auto: true, resolution: [80, 60]}
 )";
 
-bool startsWith(const std::string &s, const std::string &prefix) { return s.rfind(prefix, 0) == 0; }
-
 } // namespace
 
 TEST(CompareScene, OnePanelPerSymmetryInOrderWithLabelsAndPictures) {
-    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    const scenes::SceneDesc desc = scenes::parseScene(kSmallTorus, kCompareScenePath);
     scenes::CompareSpec spec;
     spec.symmetries = {2, 4, 6};
     const scenes::Comparison c = scenes::compareScene(desc, spec);
@@ -41,7 +40,7 @@ TEST(CompareScene, OnePanelPerSymmetryInOrderWithLabelsAndPictures) {
     const char *prefixes[] = {"(a) 2-RoSy: ", "(b) 4-RoSy: ", "(c) 6-RoSy: "};
     for (size_t k = 0; k < 3; ++k) {
         const scenes::ComparePanel &p = c.panels[k];
-        EXPECT_TRUE(startsWith(p.label, prefixes[k])) << p.label;
+        EXPECT_TRUE(test::startsWith(p.label, prefixes[k])) << p.label;
         EXPECT_EQ(p.field.nSym, spec.symmetries[k]);
         EXPECT_EQ(p.singularities.indexNumeratorSum, 0); // Poincaré–Hopf, torus: χ = 0
         EXPECT_EQ(p.picture.width, 80);
@@ -57,7 +56,7 @@ TEST(CompareScene, EachPanelIsTheRenderOfItsSymmetry) {
     // compareScene() shares the G-buffer, tone and contours between panels and draws
     // the fields and panels side by side; each panel must still be exactly the
     // composite renderScene() draws for that N, on one thread and on several.
-    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    const scenes::SceneDesc desc = scenes::parseScene(kSmallTorus, kCompareScenePath);
     for (int threads : {1, 2}) {
         scenes::PipelineOptions options;
         options.threads = threads;
@@ -79,7 +78,7 @@ TEST(CompareScene, EachPanelIsTheRenderOfItsSymmetry) {
 }
 
 TEST(CompareScene, VariantsKeepTheirOrderAndFieldPicturesHaveNoInkFigures) {
-    const scenes::SceneDesc desc = scenes::parseScene(kTorus, kScenePath);
+    const scenes::SceneDesc desc = scenes::parseScene(kSmallTorus, kCompareScenePath);
     scenes::CompareSpec spec;
     using V = scenes::CompareSpec::Variant;
     spec.variants = {V::Smoothed, V::Original};
@@ -87,8 +86,8 @@ TEST(CompareScene, VariantsKeepTheirOrderAndFieldPicturesHaveNoInkFigures) {
     spec.fieldPictures = true;
     const scenes::Comparison c = scenes::compareScene(desc, spec);
     ASSERT_EQ(c.panels.size(), 2u);
-    EXPECT_TRUE(startsWith(c.panels[0].label, "(a) 4-RoSy, smoothed 3x: ")) << c.panels[0].label;
-    EXPECT_TRUE(startsWith(c.panels[1].label, "(b) 4-RoSy: ")) << c.panels[1].label;
+    EXPECT_TRUE(test::startsWith(c.panels[0].label, "(a) 4-RoSy, smoothed 3x: ")) << c.panels[0].label;
+    EXPECT_TRUE(test::startsWith(c.panels[1].label, "(b) 4-RoSy: ")) << c.panels[1].label;
     for (const scenes::ComparePanel &p : c.panels) {
         EXPECT_NE(p.seamFraction, p.seamFraction); // NaN: a field picture has no ink to measure
         EXPECT_EQ(p.picture.width, 80);
@@ -131,7 +130,7 @@ TEST(PanelSheet, LaysPanelsOutWithGapsAndInksTheLabelsUnderneath) {
 TEST(LoadedScene, SmoothedCopyIsBuiltOnceForConcurrentCallers) {
     const char *kEllipsoid = "mesh: {primitive: ellipsoid, subdivisions: 4, a: 1.0, b: 0.7, c: 0.5}\n"
                              "camera: {auto: true, resolution: [32, 32]}\n";
-    const scenes::LoadedScene loaded = scenes::loadScene(scenes::parseScene(kEllipsoid, kScenePath));
+    const scenes::LoadedScene loaded = scenes::loadScene(scenes::parseScene(kEllipsoid, kCompareScenePath));
     std::vector<const field::SmoothedSurface *> seen(8, nullptr);
     parallelFor(0, int64_t(seen.size()), [&](int64_t k) { seen[size_t(k)] = loaded.smoothedCopy().get(); }, 1);
     for (const field::SmoothedSurface *s : seen) EXPECT_EQ(s, seen[0]);
@@ -151,7 +150,7 @@ TEST(CompareScene, PanelsOfANoisyScanShareOneSmoothedCopy) {
     const std::string ellipsoid = "mesh: {primitive: ellipsoid, subdivisions: " +
                                   std::to_string(test::kScanEllipsoidLevel) + ", a: 1.0, b: 0.7, c: 0.5}\n" +
                                   "camera: {auto: true, resolution: [64, 48]}\n";
-    const scenes::SceneDesc desc = scenes::parseScene(ellipsoid, kScenePath);
+    const scenes::SceneDesc desc = scenes::parseScene(ellipsoid, kCompareScenePath);
     scenes::PipelineOptions options;
     options.afterLoad = [](scenes::Scene &scene) {
         scene.mesh = test::makeScanLike(scene.mesh, test::kScanEllipsoidNoise);

@@ -29,7 +29,6 @@ using rosy::field::Vec3;
 
 namespace {
 
-const std::string kHead = std::string(ROSY_DATA_DIR) + "/meshes/head.off";
 
 using rosy::test::f32;
 using rosy::test::u32;
@@ -72,14 +71,14 @@ protected:
         o.displayAbove = 1000;
         o.displayFaces = 800;
         serve("rosy-studio-display-",
-              "mesh: " + kHead + "\ncamera:\n  auto: true\n  resolution: [128, 96]\nfield:\n  symmetry: 4\n", o);
+              "mesh: " + rosy::test::kHead + "\ncamera:\n  auto: true\n  resolution: [128, 96]\nfield:\n  symmetry: 4\n", o);
     }
 };
 
 } // namespace
 
 TEST(DisplayMesh, ClustersALargeMeshAndKeepsASmallOne) {
-    const rosy::field::Mesh mesh = rosy::field::loadMesh(kHead);
+    const rosy::field::Mesh mesh = rosy::field::loadMesh(rosy::test::kHead);
     const rosy::studio::DisplayMesh same = rosy::studio::makeDisplayMesh(mesh, mesh.nFaces());
     EXPECT_EQ(same.cellSize, 0.0);
     EXPECT_EQ(same.faces, mesh.faces());
@@ -115,7 +114,7 @@ TEST(DisplayMesh, ClustersALargeMeshAndKeepsASmallOne) {
 }
 
 TEST_F(StudioDisplay, AboveTheThresholdThePageGetsTheDisplayMeshStreamed) {
-    const rosy::field::Mesh mesh = rosy::field::loadMesh(kHead);
+    const rosy::field::Mesh mesh = rosy::field::loadMesh(rosy::test::kHead);
     const json s = json::parse(client->Get("/api/state")->body);
     EXPECT_EQ(s["faces"], mesh.nFaces()); // the library's mesh
     EXPECT_TRUE(s["display"]["decimated"].get<bool>());
@@ -177,7 +176,7 @@ TEST_F(StudioDisplay, AboveTheThresholdThePageGetsTheDisplayMeshStreamed) {
 }
 
 TEST_F(StudioDisplay, PicksLandOnTheFullSurface) {
-    const rosy::field::Mesh mesh = rosy::field::loadMesh(kHead);
+    const rosy::field::Mesh mesh = rosy::field::loadMesh(rosy::test::kHead);
     Vec3 lo, hi;
     mesh.bounds(lo, hi);
     const Vec3 centre = 0.5 * (lo + hi);

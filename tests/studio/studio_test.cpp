@@ -40,7 +40,6 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kHead = std::string(ROSY_DATA_DIR) + "/meshes/head.off";
 
 std::string slurp(const fs::path &p) {
     std::ifstream in(p, std::ios::binary);
@@ -98,7 +97,7 @@ int statusOf(const std::string &answer) {
 class Studio : public rosy::test::StudioFixture {
 protected:
     void SetUp() override {
-        serve("rosy-studio-test-", "# a comment the save keeps\nmesh: " + kHead +
+        serve("rosy-studio-test-", "# a comment the save keeps\nmesh: " + rosy::test::kHead +
                                        "\ncamera:\n  auto: true\n  direction: [-0.6, 0.2, 1.0]\n  fov: 30\n"
                                        "  resolution: [256, 192]\nfield:\n  symmetry: 4\nstyle:\n  ambient: 0.08\n"
                                        "output: head.png\n");
@@ -240,7 +239,7 @@ TEST_F(Studio, MalformedRequestsGet400AndTheServerKeepsRunning) {
 }
 
 TEST_F(Studio, MeshAndFieldAreCompactBinary) {
-    const rosy::field::Mesh mesh = rosy::field::loadMesh(kHead);
+    const rosy::field::Mesh mesh = rosy::field::loadMesh(rosy::test::kHead);
     auto m = client->Get("/api/mesh");
     ASSERT_TRUE(m);
     ASSERT_EQ(m->status, 200);
@@ -391,7 +390,7 @@ TEST_F(Studio, SingularElementAndSettings) {
     ASSERT_EQ(on->status, 200) << on->body;
     const json so = editJson(on->body);
     EXPECT_EQ(so["elements"].size(), 1u);
-    const rosy::field::Mesh mesh = rosy::field::loadMesh(kHead);
+    const rosy::field::Mesh mesh = rosy::field::loadMesh(rosy::test::kHead);
     const int face = rosy::field::snapToSurface(mesh, rosy::field::Vec3(p[0], p[1], p[2])).face;
     std::vector<int> faces;
     for (const auto &q : so["singularities"])
@@ -562,7 +561,7 @@ TEST(StudioCli, ExitCodesAndTheUrlItServes) {
     EXPECT_NE(slurp(err).find("--display-above"), std::string::npos) << slurp(err);
     // A port already taken: exit 3 naming it.
     const fs::path scene = dir / "head.yaml";
-    std::ofstream(scene) << "mesh: " << kHead << "\n";
+    std::ofstream(scene) << "mesh: " << rosy::test::kHead << "\n";
     rosy::studio::Studio st(scene.string());
     rosy::studio::StudioServer taken(st, {});
     const int port = taken.bind();

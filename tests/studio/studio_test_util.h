@@ -20,6 +20,9 @@
 
 namespace rosy::test {
 
+/// CGAL's head, the studio tests' mesh (extracted by tools/setup.sh).
+inline const std::string kHead = std::string(ROSY_DATA_DIR) + "/meshes/head.off";
+
 /// Little-endian uint32 / float32 at byte `at` of a payload.
 inline uint32_t u32(const std::string &s, size_t at) {
     uint32_t v;
