@@ -251,7 +251,12 @@ TEST(BadInputCli, DiskFullMidWriteKeepsThePreviousFileAndNoTemporary) {
         EXPECT_NE(r.err.find(c.files[0] + ": error: "), std::string::npos) << r.err;
         for (const std::string &file : c.files) EXPECT_EQ(slurp(dir / file), "previous contents of " + file + "\n");
         EXPECT_EQ(leftovers(dir), std::vector<std::string>{});
-        // Without the limit the same command succeeds: the failure was the disk.
+        // Without the limit the same command succeeds: the failure was the disk. (Under
+        // ASan + UBSan only for the first case: the sanitized suite renders these outputs
+        // elsewhere, and the 20 runs took 41 s.)
+#ifdef ROSY_SANITIZED
+        if (&c != &cases.front()) continue;
+#endif
         EXPECT_EQ(run(dir, c.args + " --quiet").exitCode, 0);
         for (const std::string &file : c.files) EXPECT_NE(slurp(dir / file), "previous contents of " + file + "\n");
     }

@@ -259,19 +259,28 @@ TEST(Remesh, NarrowGroovesAreFollowedToTheirBottom) {
     const Remeshed r = run(grooved, 4, 0.03, /*separatrices=*/false);
     expectValidClosed(r.quality, 2);
     // The input's vertices in the grooves (within one width of a bottom circle), each
-    // to its nearest output triangle, by brute force.
+    // to its nearest output triangle, by brute force over the polygons whose bounding
+    // sphere (around their first corner) could hold a point nearer than the best so far.
+    std::vector<double> reach(r.result.polygons.size(), 0.0);
+    for (size_t i = 0; i < reach.size(); ++i)
+        for (int v : r.result.polygons[i])
+            reach[i] = std::max(reach[i], (r.result.positions[v] - r.result.positions[r.result.polygons[i][0]]).norm());
     double worst = 0;
     for (const field::Vec3 &x : p) {
         bool inGroove = false;
         for (double o : offsets) inGroove = inGroove || std::abs(x.normalized().dot(axis) - o) < width;
         if (!inGroove) continue;
         double best = std::numeric_limits<double>::infinity();
-        for (const auto &poly : r.result.polygons)
+        for (size_t i = 0; i < r.result.polygons.size(); ++i) {
+            const auto &poly = r.result.polygons[i];
+            const double lower = (x - r.result.positions[poly[0]]).norm() - reach[i];
+            if (lower > 0 && lower * lower >= best) continue; // no point of this polygon is nearer
             for (size_t j = 1; j + 1 < poly.size(); ++j)
                 best = std::min(best, (x - field::closestPointOnTriangle(x, r.result.positions[poly[0]],
                                                                          r.result.positions[poly[j]],
                                                                          r.result.positions[poly[j + 1]]))
                                           .squaredNorm());
+        }
         worst = std::max(worst, std::sqrt(best));
     }
     EXPECT_LE(worst, 0.4 * r.edgeLength) << "groove vertices within " << worst / r.edgeLength << " L";

@@ -408,7 +408,13 @@ TEST(PrintMode, InkPerMm2DoesNotGrowWithResolution) {
     // 1.002, per view 0.980-1.024 (2026-12-02), so each view is held to 5 % too.
     const std::string pen = ", pen_width_mm: 0.15, min_spacing_mm: 0.4, max_spacing_mm: 1.2, min_length_mm: 0.5";
     double coarse = 0, fine = 0;
-    for (const char *view : {"0.2, 1.0, 0.9", "1, 0.3, 0.2", "0, 1, 0.1", "0.5, 0.5, 1"}) {
+#ifdef ROSY_SANITIZED
+    // Under ASan + UBSan two of the views (the code paths are the same; 24 s for four).
+    const std::vector<const char *> views = {"0.2, 1.0, 0.9", "0, 1, 0.1"};
+#else
+    const std::vector<const char *> views = {"0.2, 1.0, 0.9", "1, 0.3, 0.2", "0, 1, 0.1", "0.5, 0.5, 1"};
+#endif
+    for (const char *view : views) {
         const PrintRun a = printRun(60, 300, true, true, pen, view), b = printRun(60, 800, true, true, pen, view);
         std::printf("view [%s]: 300² %.4f, 800² %.4f mm/mm² (%.3f)\n", view, a.inkPerMm2, b.inkPerMm2,
                     b.inkPerMm2 / a.inkPerMm2);
