@@ -283,7 +283,8 @@ void shadeFromSmoothedCopy(renderer::Illustration &begun, const Scene &scene, co
 }
 
 HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork,
-                                 bool contoursBesideHatching) {
+                                 bool contoursBesideHatching,
+                                 const std::function<void(const std::string &stage)> &onStageStart) {
     HatchingView out;
     tbb::task_group view;
     view.run([&] {
@@ -303,6 +304,7 @@ HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()>
         }
         throw;
     }
+    if (onStageStart) onStageStart("bvh"); // built beside the field: what is waited for now
     view.wait(); // rethrows the task's exception (Embree failing)
     return out;
 }
@@ -348,10 +350,8 @@ RenderResult renderHatching(const SceneDesc &desc, const PipelineOptions &option
         [&] {
             out.loaded.frames = buildFrames(*out.loaded.scene, options, &out.timingsMs);
             out.field = buildSceneField(out.loaded, desc.field, options, &out.timingsMs);
-            // Built beside the field: what the rest waits for now (PipelineOptions::onStageStart).
-            if (options.onStageStart) options.onStageStart("bvh");
         },
-        true);
+        true, options.onStageStart);
     out.timingsMs.emplace_back("bvh", view.bvhMs);
     if (options.onStage) options.onStage("bvh", view.bvhMs);
     out.rays = std::move(view.rays);

@@ -300,8 +300,11 @@ struct HatchingView {
 /// exception rethrown; else a failure of the task (Embree) is rethrown.
 /// `contoursBesideHatching`: the contours are left to finishHatching()
 /// (renderer::IllustrationInput::contoursBesideHatching); for a single drawing.
+/// `onStageStart` (PipelineOptions::onStageStart), when set, is told "bvh" on this
+/// thread once fieldWork has returned: the view is what the caller waits for then.
 HatchingView beginHatchingBeside(const Scene &scene, const std::function<void()> &fieldWork,
-                                 bool contoursBesideHatching = false);
+                                 bool contoursBesideHatching = false,
+                                 const std::function<void(const std::string &stage)> &onStageStart = {});
 
 /// The whole pipeline: print mode when options.print (applyPrintUnits() on a copy
 /// of `desc`), buildSceneField(), then the scene's picture — the
