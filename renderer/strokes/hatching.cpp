@@ -568,6 +568,50 @@ public:
             }
     }
 
+    /// Singularities left as holes in cross tone (HatchReport::singularityHoles: no line
+    /// within kHoleRatio d_sep of the point). Every line keeps a disc of d_sep around a
+    /// visible singularity free (its field turns too fast there to follow), and in dark
+    /// tone where both families stop at it the disc reads as a white speck. The lines
+    /// that stopped at such a disc (their blunt ends within it) are continued straight
+    /// along their end tangent, in creation order, while inside the disc, on the surface
+    /// and off the edges, and while no line of their direction is closer than d_test
+    /// (the tracer's own rule, blocks()): the cross-hatching runs through the speck as an
+    /// engraver fills it. Their samples join the grid, not Sample::crosses' count.
+    void inkSingularityHoles() {
+        m_blockMask = kBlockLines;
+        // The stroke ends that stopped at a disc, in creation order: (stroke, 0 start / 1 end).
+        std::vector<std::pair<size_t, int>> bluntEnds;
+        for (size_t k = 0; k < m_strokes.size(); ++k)
+            for (int end = 0; end < 2; ++end)
+                if (m_blunt[k] & (end == 0 ? 1 : 2)) bluntEnds.emplace_back(k, end);
+        for (const Disc &d : m_discs) {
+            const int ic = pixelIndex(d.centre);
+            if (ic < 0 || hatchFamilies(densityAt(ic), m_style) < 2 || !(m_crossWeight[size_t(ic)] > 0.0f)) continue;
+            const double reach = kHoleRatio * m_spacing[0][size_t(ic)];
+            if (m_grid.any(d.centre, reach,
+                           [&](const Sample &s) { return (s.p - d.centre).squaredNorm() < reach * reach; }))
+                continue;
+            const double near = 1.25 * d.radius;
+            for (const auto &[k, end] : bluntEnds) {
+                std::vector<Vec2> &pts = m_strokes[k].points;
+                const Vec2 p = end == 0 ? pts.front() : pts.back();
+                if ((p - d.centre).squaredNorm() > near * near) continue;
+                const Vec2 t = end == 0 ? Vec2(-m_tangents[k].front()) : Vec2(m_tangents[k].back());
+                if (t.dot(d.centre - p) <= 0.0) continue; // heading away from the speck
+                const std::vector<Vec2> added = continueStraight(p, t, int(k), d);
+                if (added.empty()) continue;
+                std::vector<Vec2> &tan = m_tangents[k];
+                if (end == 1) {
+                    pts.insert(pts.end(), added.begin(), added.end());
+                    tan.insert(tan.end(), added.size(), t);
+                } else {
+                    pts.insert(pts.begin(), added.rbegin(), added.rend());
+                    tan.insert(tan.begin(), added.size(), Vec2(-t));
+                }
+            }
+        }
+    }
+
     /// Layers by direction. In cross tone a first-family line may cross first-family
     /// lines traced before it (where two fronts of the cross field's labels meet); such
     /// a line is cross-hatching, so when most of its samples cross earlier first-family
@@ -859,6 +903,37 @@ private:
                 }
             }
         }
+    }
+
+    /// inkSingularityHoles()' walk: from stroke `stroke`'s end p along t in steps of
+    /// kStepRatio d_sep while inside disc d, returning the points added (their samples
+    /// are in the grid). Stops at the image's edge, an edge pixel or its guard band,
+    /// paper, or a line of the same direction within d_test.
+    std::vector<Vec2> continueStraight(Vec2 p, const Vec2 &t, int stroke, const Disc &d) {
+        std::vector<Vec2> out;
+        const int family = m_strokes[size_t(stroke)].family;
+        double arc = 0.0;
+        const double longest = 2.0 * d.radius;
+        while (arc < longest) {
+            const int ip = pixelIndex(p);
+            if (ip < 0) break;
+            const double step = std::clamp(kStepRatio * m_spacing[size_t(family)][size_t(ip)], m_minStep, m_maxStep);
+            const Vec2 q = p + step * t;
+            if ((q - d.centre).squaredNorm() >= d.radius * d.radius && (q - d.centre).dot(t) > 0.0) break; // leaving
+            const int iq = pixelIndex(q);
+            if (iq < 0 || blockedAt(q, iq) || hatchFamilies(densityAt(iq), m_style) == 0) break;
+            const double r = kTestRatio * m_spacing[size_t(family)][size_t(iq)];
+            if (m_grid.anyWithin(q, r, [&](const Sample &s) {
+                    if (s.stroke == stroke) return false;
+                    return std::abs(s.t.dot(t)) >= kSameFamilyCos && (s.p - q).squaredNorm() < r * r;
+                }))
+                break;
+            arc += step;
+            m_grid.add(Sample{q, t, arc, stroke, family, r, -1, -1});
+            out.push_back(q);
+            p = q;
+        }
+        return out;
     }
 
     /// Integrates from p along heading h (RK2 midpoint on the line field), appending
@@ -1256,6 +1331,7 @@ StrokeList traceHatches(const ScreenField &field, const std::vector<float> &targ
         hatcher.traceFamily(0);
         hatcher.traceFamily(1);
         hatcher.fillHoles();
+        hatcher.inkSingularityHoles();
         hatcher.relabelCrossings();
         const std::vector<uint8_t> blunt = hatcher.bluntEnds();
         out.strokes = hatcher.takeStrokes();
@@ -1291,6 +1367,14 @@ double measuredSpacingAt(const ScreenField &field, const std::vector<float> &tar
     return familySpacingPx(clampDensity(targetDensity[i]), family, style, w);
 }
 
+/// Whether the tone at p asks for both families and the two screen directions there
+/// have not folded together: where a singularity's disc left empty reads as a hole.
+bool inCrossTone(const ScreenField &field, const std::vector<float> &targetDensity, const styles::HatchStyle &style,
+                 const Vec2 &p) {
+    const size_t i = clampedPixel(field, p);
+    return hatchFamilies(clampDensity(targetDensity[i]), style) >= 2 && field.valid(i) && crossWeight(field, i) > 0.0;
+}
+
 /// HatchReport::singularityHoles over the hatch strokes `hatch` of `list`.
 int countSingularityHoles(const StrokeList &list, const std::vector<int> &hatch, const ScreenField &field,
                           const std::vector<float> &targetDensity, const styles::HatchStyle &style) {
@@ -1298,9 +1382,7 @@ int countSingularityHoles(const StrokeList &list, const std::vector<int> &hatch,
     std::vector<std::array<Vec2, 2>> box; // each stroke's bounding box, computed on the first use
     for (const ScreenSingularity &s : field.singularities) {
         if (!s.visible) continue;
-        const size_t i = clampedPixel(field, s.pRaster);
-        const double w = field.valid(i) ? crossWeight(field, i) : 0.0;
-        if (hatchFamilies(clampDensity(targetDensity[i]), style) < 2 || !(w > 0.0)) continue;
+        if (!inCrossTone(field, targetDensity, style, s.pRaster)) continue;
         const double reach = kHoleRatio * measuredSpacingAt(field, targetDensity, style, s.pRaster, 0);
         if (box.empty())
             for (int k : hatch) {
@@ -1337,7 +1419,11 @@ HatchReport countHatches(const StrokeList &list, const ScreenField &field, const
         for (size_t i = 1; i < s.points.size(); ++i) r.inkLengthPx += (s.points[i] - s.points[i - 1]).norm();
     }
     if (hatch.empty() || field.nPixels() == 0) return r;
-    const std::vector<Disc> discs = singularityDiscs(field, targetDensity, style, 1.0 - tolerance);
+    // The discs the tracer keeps free: those outside cross tone (in cross tone a disc
+    // that would be a white speck is inked afterwards, Hatcher::inkSingularityHoles()).
+    std::vector<Disc> discs;
+    for (const Disc &d : singularityDiscs(field, targetDensity, style, 1.0 - tolerance))
+        if (!inCrossTone(field, targetDensity, style, d.centre)) discs.push_back(d);
     std::vector<uint8_t> isStub(hatch.size(), 0), nearSing(hatch.size(), 0);
     parallelFor(0, int64_t(hatch.size()), [&](int64_t h) {
         const auto &pts = list.strokes[size_t(hatch[size_t(h)])].points;

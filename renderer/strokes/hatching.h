@@ -49,7 +49,10 @@ struct HatchReport {
     /// Unordered pairs of strokes of the same family that come closer than the local
     /// d_test while running within 45° of each other (measured by measureHatches()).
     int minSpacingViolations = 0;
-    /// Strokes that enter the disc of radius d_sep around a visible projected singularity.
+    /// Strokes that enter the disc of radius d_sep around a visible projected singularity
+    /// outside cross tone, which the tracer keeps free (in cross tone, where both
+    /// families stop at it, a disc that would be a hole is inked afterwards: lines that
+    /// stopped there run on straight through it).
     int strokesNearSingularities = 0;
     /// Visible singularities in cross-hatched tone (two families drawn at their pixel)
     /// with no hatch line within kHoleRatio × the local spacing d_sep: a white speck

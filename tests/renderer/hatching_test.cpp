@@ -431,7 +431,8 @@ TEST(Hatching, CancellingPairIsClearedOnlyInLightTone) {
 
 // HatchReport::singularityHoles sees the white speck a lone singularity's keep-away
 // disc leaves in cross-hatched tone (elk, dragknob: docs/hatching.md), and nothing in
-// single tone or where a line passes.
+// single tone or where a line passes; the tracer inks such a speck (lines that stopped
+// at the disc run on straight through it), and leaves a single-tone disc empty.
 TEST(Hatching, SingularityHoleIsCountedInCrossToneOnly) {
     Scene s = diskWithElement(40, 256, field::Vec3(0.0, 0.0, 0), 1);
     int visible = 0;
@@ -442,12 +443,46 @@ TEST(Hatching, SingularityHoleIsCountedInCrossToneOnly) {
     styles::HatchStyle st;
     const std::vector<float> dark = s.uniformDensity(0.8f), light = s.uniformDensity(0.2f);
     HatchReport r;
-    StrokeList list = traceHatches(s.screen, dark, s.gbuffer, st, 5, &r);
+    const StrokeList traced = traceHatches(s.screen, dark, s.gbuffer, st, 5, &r);
     ASSERT_GT(r.strokesFamily1, 5);
-    EXPECT_EQ(r.singularityHoles, 1); // its disc, d_sep wide, is empty of both families
-    EXPECT_EQ(countHatches(list, s.screen, dark, st).singularityHoles, 1);
-    // Single tone: a disc there is the rule, not a hole.
+    // The tracer inked the speck: no hole, and lines run through the disc.
+    EXPECT_EQ(r.singularityHoles, 0);
+    const double b = 1.0 - std::sqrt(0.2);
+    const double dSep = st.strokeWidthPx / (1.0 - 0.2 / (1.0 - b)); // family 0's d_sep at 0.8
+    auto pointsWithin = [&](const StrokeList &l, double radius) {
+        int n = 0;
+        for (const Stroke &k : l.strokes)
+            for (const Vec2 &p : k.points) n += (p - at).norm() < radius;
+        return n;
+    };
+    EXPECT_GT(pointsWithin(traced, 0.5 * dSep), 0);
+    // The lines as they were before they ran on into the disc (every point within d_sep
+    // of the singularity cut out, strokes split there): the measure sees the speck.
+    StrokeList list = traced;
+    list.strokes.clear();
+    for (const Stroke &k : traced.strokes) {
+        Stroke piece = k;
+        piece.points.clear();
+        piece.widths.clear();
+        for (size_t i = 0; i <= k.points.size(); ++i) {
+            if (i < k.points.size() && (k.points[i] - at).norm() >= dSep) {
+                piece.points.push_back(k.points[i]);
+                piece.widths.push_back(k.widths[i]);
+            } else if (!piece.points.empty()) {
+                if (piece.points.size() >= 2) list.strokes.push_back(piece);
+                piece.points.clear();
+                piece.widths.clear();
+            }
+        }
+    }
+    EXPECT_EQ(pointsWithin(list, dSep), 0);
+    EXPECT_EQ(countHatches(list, s.screen, dark, st).singularityHoles, 1); // empty of both families
+    // Single tone: a disc there is the rule, not a hole; the tracer keeps it empty.
     EXPECT_EQ(countHatches(list, s.screen, light, st).singularityHoles, 0);
+    HatchReport single;
+    traceHatches(s.screen, light, s.gbuffer, st, 5, &single);
+    EXPECT_EQ(single.strokesNearSingularities, 0);
+    EXPECT_EQ(single.singularityHoles, 0);
     // A line through it fills it.
     Stroke through;
     through.points = {at - Vec2(6, 0), at + Vec2(6, 0)};
