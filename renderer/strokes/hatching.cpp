@@ -574,9 +574,10 @@ public:
     /// tone where both families stop at it the disc reads as a white speck. The lines
     /// that stopped at such a disc (their blunt ends within it) are continued straight
     /// along their end tangent, in creation order, while inside the disc, on the surface
-    /// and off the edges, and while no line of their direction is closer than d_test
-    /// (the tracer's own rule, blocks()): the cross-hatching runs through the speck as an
-    /// engraver fills it. Their samples join the grid, not Sample::crosses' count.
+    /// and off the edges, and while no other line within 55° of their direction is
+    /// closer than the walk's own d_test (blocks()' cross-tone rule, without its larger
+    /// of both d_tests): the cross-hatching runs through the speck as an engraver fills
+    /// it. Their samples join the grid, not Sample::crosses' count.
     void inkSingularityHoles() {
         m_blockMask = kBlockLines;
         // The stroke ends that stopped at a disc, in creation order: (stroke, 0 start / 1 end).
@@ -586,7 +587,7 @@ public:
                 if (m_blunt[k] & (end == 0 ? 1 : 2)) bluntEnds.emplace_back(k, end);
         for (const Disc &d : m_discs) {
             const int ic = pixelIndex(d.centre);
-            if (ic < 0 || hatchFamilies(densityAt(ic), m_style) < 2 || !(m_crossWeight[size_t(ic)] > 0.0f)) continue;
+            if (ic < 0 || singleTone(ic)) continue; // cross tone only: a disc in single tone is the rule
             const double reach = kHoleRatio * m_spacing[0][size_t(ic)];
             if (m_grid.any(d.centre, reach,
                            [&](const Sample &s) { return (s.p - d.centre).squaredNorm() < reach * reach; }))
