@@ -13,17 +13,9 @@
 #include <utility>
 #include <sys/wait.h>
 
-namespace rosy::test {
+#include "tests/test_output.h" // testOutputDir()
 
-/// build/test-output/NAME, created: the folder a test program writes into. With
-/// perTest, a sub-folder named after the running test; with fresh, emptied first.
-inline std::filesystem::path testOutputDir(const std::string &name, bool perTest = false, bool fresh = false) {
-    std::filesystem::path dir = std::filesystem::path(ROSY_BINARY_DIR) / "test-output" / name;
-    if (perTest) dir /= ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    if (fresh) std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
+namespace rosy::test {
 
 /// Writes `text` to p, bytes as given.
 inline void put(const std::filesystem::path &p, const std::string &text) {

@@ -21,18 +21,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "tests/test_output.h"
+
 namespace fs = std::filesystem;
 using namespace rosy;
 
 namespace {
 
-fs::path workDir() {
-    const auto *info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "atomic_file" / info->name();
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path workDir() { return rosy::test::testOutputDir("atomic_file", /*perTest=*/true, /*fresh=*/true); }
 
 std::string slurp(const fs::path &p) {
     std::ifstream in(p, std::ios::binary);

@@ -12,17 +12,13 @@
 #include <string>
 #include <sys/stat.h>
 
+#include "tests/test_output.h"
+
 namespace fs = std::filesystem;
 using namespace rosy;
 
 namespace {
-fs::path freshDir() {
-    const auto *info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "input_file" / info->name();
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path freshDir() { return rosy::test::testOutputDir("input_file", /*perTest=*/true, /*fresh=*/true); }
 
 std::string messageOf(const std::string &path, const InputFileRules &rules) {
     try {

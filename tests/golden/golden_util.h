@@ -21,6 +21,8 @@
 #include <utility>
 #include <vector>
 
+#include "tests/test_output.h"
+
 namespace golden {
 
 namespace fs = std::filesystem;
@@ -45,9 +47,7 @@ inline std::string goldenResolution() {
 }
 
 inline fs::path workDir(const std::string &name) {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "golden" / name;
-    fs::create_directories(dir);
-    return dir;
+    return rosy::test::testOutputDir("golden/" + name);
 }
 
 inline std::string slurp(const fs::path &p) {

@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/test_output.h"
+
 namespace {
 
 namespace r = rosy::renderer;
@@ -214,8 +216,7 @@ TEST(ImageDiff, DepthIsComparedRelativeToTheSceneDepth) {
 }
 
 TEST(ReadDiffInput, DecodesSrgbFilesToLinearLight) {
-    const fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "image_diff";
-    fs::create_directories(dir);
+    const fs::path dir = rosy::test::testOutputDir("image_diff");
     r::Image im = paper(4, 4, 0.2);
     r::writeImage(im, (dir / "grey.png").string());
     const r::DiffInput in = r::readDiffInput((dir / "grey.png").string());

@@ -205,8 +205,7 @@ TEST(ReadInkMaps, RoundTripThroughTheRenderExr) {
     surf.angle0.assign(n, float(angle));
     surf.angle1.assign(n, float(angle + rosy::test::kPi / 2));
     surf.targetDensity.assign(n, 0.2f);
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "inspect";
-    fs::create_directories(dir);
+    const fs::path dir = rosy::test::testOutputDir("inspect");
     fs::path path = dir / "round_trip.exr";
     writeImage(inkExrImage(layers, composite, surf), path.string(), inkExrWriteOptions(6.0));
 
@@ -221,8 +220,7 @@ TEST(ReadInkMaps, RoundTripThroughTheRenderExr) {
 
 TEST(ReadInkMaps, MissingFileIsAnIoErrorAndPlainImageAnInputError) {
     EXPECT_THROW(readInkMaps("/nonexistent/render.exr"), rosy::IoError);
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "inspect";
-    fs::create_directories(dir);
+    const fs::path dir = rosy::test::testOutputDir("inspect");
     fs::path plain = dir / "plain.exr";
     writeImage(Image(4, 4, {"R", "G", "B"}), plain.string());
     try {

@@ -1,10 +1,13 @@
 #pragma once
 /// \file test_support.h
-/// Small things the renderer tests share: angle constants and a fresh output folder.
+/// Small things the renderer tests share: angle constants and a fresh output folder
+/// (tests/test_output.h).
 
 #include <filesystem>
 #include <numbers>
 #include <string>
+
+#include "tests/test_output.h"
 
 namespace rosy::test {
 
@@ -13,10 +16,7 @@ inline constexpr double kDeg = kPi / 180.0;
 
 /// An empty folder `<build>/test-output/<group>/<name>` (removed and made again).
 inline std::filesystem::path freshDir(const std::string &group, const std::string &name) {
-    const std::filesystem::path dir = std::filesystem::path(ROSY_BINARY_DIR) / "test-output" / group / name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
+    return testOutputDir(group + "/" + name, /*perTest=*/false, /*fresh=*/true);
 }
 
 } // namespace rosy::test

@@ -19,16 +19,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "tests/test_output.h"
+
 using namespace rosy::scenes;
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    fs::path d = fs::path(ROSY_BINARY_DIR) / "test-output" / "bad_scenes";
-    fs::create_directories(d);
-    return d;
-}
+fs::path dir() { return rosy::test::testOutputDir("bad_scenes"); }
 
 std::string path() { return (dir() / "s.yaml").string(); }
 

@@ -15,6 +15,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/test_output.h"
+
 using namespace rosy::scenes;
 namespace fs = std::filesystem;
 
@@ -22,8 +24,7 @@ namespace {
 
 /// A folder with a placeholder mesh file (parsing only checks it exists).
 fs::path sceneDir() {
-    fs::path dir = fs::path(ROSY_BINARY_DIR) / "test-output" / "scenes";
-    fs::create_directories(dir);
+    const fs::path dir = rosy::test::testOutputDir("scenes");
     std::ofstream(dir / "thing.off") << "OFF\n";
     return dir;
 }
