@@ -1,11 +1,13 @@
 #pragma once
 /// \file test_output.h
-/// Where every test program writes its files: `<build>/test-output/...`, one helper
-/// for all of them.
+/// Where every test program writes its files, `<build>/test-output/...`, and the
+/// whole-file reads and writes the tests make there: one helper each for all of them.
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace rosy::test {
@@ -18,6 +20,17 @@ inline std::filesystem::path testOutputDir(const std::string &name, bool perTest
     if (fresh) std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+/// The whole content of a file, bytes as stored ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path &p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Writes `text` to p, bytes as given.
+inline void put(const std::filesystem::path &p, const std::string &text) {
+    std::ofstream(p, std::ios::binary) << text;
 }
 
 } // namespace rosy::test

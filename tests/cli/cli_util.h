@@ -13,20 +13,9 @@
 #include <utility>
 #include <sys/wait.h>
 
-#include "tests/test_output.h" // testOutputDir()
+#include "tests/test_output.h" // testOutputDir(), slurp(), put()
 
 namespace rosy::test {
-
-/// Writes `text` to p, bytes as given.
-inline void put(const std::filesystem::path &p, const std::string &text) {
-    std::ofstream(p, std::ios::binary) << text;
-}
-
-/// The whole content of a file ("" when it cannot be read).
-inline std::string slurp(const std::filesystem::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// Width and height of a PNG from its IHDR chunk (big-endian at bytes 16..23);
 /// {0, 0} when the bytes are too short to hold one.

@@ -30,12 +30,8 @@ namespace {
 
 fs::path workDir() { return rosy::test::testOutputDir("atomic_file", /*perTest=*/true, /*fresh=*/true); }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void put(const fs::path &p, const std::string &text) { std::ofstream(p, std::ios::binary) << text; }
+using rosy::test::put;
+using rosy::test::slurp;
 
 /// Names in `dir` that are temporaries of ours.
 std::vector<std::string> temporaries(const fs::path &dir) {

@@ -10,12 +10,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <unistd.h>
+
+#include "tests/test_output.h"
 
 using namespace rosy;
 using namespace rosy::field;
 namespace fs = std::filesystem;
+using rosy::test::slurp;
 
 namespace {
 
@@ -39,12 +41,6 @@ protected:
     }
     void TearDown() override { fs::remove_all(m_dir); }
     std::string path(const std::string &name) const { return (m_dir / name).string(); }
-    static std::string slurp(const std::string &p) {
-        std::ifstream in(p, std::ios::binary);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        return ss.str();
-    }
     fs::path m_dir;
 };
 

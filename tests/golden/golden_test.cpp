@@ -72,8 +72,8 @@ Rendered renderCase(const std::string &scene, const Overrides &overrides, const 
                                             fieldJson.string() + "' --quiet",
                                         dir, "field");
         EXPECT_EQ(field.exitCode, 0) << field.err;
-        spit(out.report, fieldPictureReport(slurp(fieldJson)));
-        spit(out.inspect, "{}\n");
+        put(out.report, fieldPictureReport(slurp(fieldJson)));
+        put(out.inspect, "{}\n");
         return out;
     }
     EXPECT_EQ(render.exitCode, 0) << render.err;
@@ -83,7 +83,7 @@ Rendered renderCase(const std::string &scene, const Overrides &overrides, const 
     // above), so any failure is reported with its stderr: a subprocess that died at
     // exit (LeakSanitizer's tracer, see tools/ci-extra.sh) must show its message in
     // the log instead of passing as a render without quality figures.
-    if (inspect.exitCode != 0) spit(out.inspect, "{}\n");
+    if (inspect.exitCode != 0) put(out.inspect, "{}\n");
     EXPECT_EQ(inspect.exitCode, 0) << inspect.err;
     if (render.exitCode != 0) return out;
     out.hatchSpacingPx = r::readDiffInput(out.exr.string()).hatchSpacingPx;
@@ -172,7 +172,7 @@ void writeHtml(const fs::path &dir, const Case &c, const std::string &diffText, 
              << g.now << "</td><td>&plusmn;" << g.tolerance << "</td></tr>\n";
     html << "</table>\n<p>If the change is intended: <code>ROSY_UPDATE_GOLDENS=1 ctest --test-dir build -R golden</code>,"
             " then look at every PNG in tests/golden/ before committing.</p>\n";
-    spit(dir / "index.html", html.str());
+    put(dir / "index.html", html.str());
 }
 
 class GoldenScene : public ::testing::TestWithParam<Case> {};
@@ -189,7 +189,7 @@ TEST_P(GoldenScene, MatchesGolden) {
     const fs::path goldInspect = kGoldenDir / (c.name + ".inspect.json");
     if (updating()) {
         fs::copy_file(now.png, goldPng, fs::copy_options::overwrite_existing);
-        spit(goldReport, portableReport(slurp(now.report), c));
+        put(goldReport, portableReport(slurp(now.report), c));
         fs::copy_file(now.inspect, goldInspect, fs::copy_options::overwrite_existing);
         std::cout << "updated " << goldPng.string() << " (look at it before committing)\n";
         return;

@@ -50,15 +50,8 @@ inline fs::path workDir(const std::string &name) {
     return rosy::test::testOutputDir("golden/" + name);
 }
 
-inline std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-inline void spit(const fs::path &p, const std::string &text) {
-    std::ofstream out(p, std::ios::binary);
-    out << text;
-}
+using rosy::test::put;
+using rosy::test::slurp;
 
 struct RunResult {
     int exitCode;
@@ -101,7 +94,7 @@ inline fs::path editedSceneCopy(const fs::path &scene, const Overrides &override
         }
     }
     const fs::path copy = dir / ("scene-" + scene.filename().string());
-    spit(copy, text);
+    put(copy, text);
     return copy;
 }
 

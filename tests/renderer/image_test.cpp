@@ -50,10 +50,7 @@ ReadBack readBack(const fs::path &path) {
     return r;
 }
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using rosy::test::slurp;
 
 } // namespace
 

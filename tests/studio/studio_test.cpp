@@ -9,6 +9,7 @@
 #include "studio/server.h"
 #include "studio/studio.h"
 #include "studio_test_util.h"
+#include "tests/test_output.h"
 #include "field/primitives.h"
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
@@ -41,10 +42,7 @@ using nlohmann::json;
 namespace {
 
 
-std::string slurp(const fs::path &p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using rosy::test::slurp;
 
 using rosy::test::f32;
 using rosy::test::u32;
