@@ -25,6 +25,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -38,6 +39,8 @@ struct RemeshCliOptions {
     std::string separatrices = "off";
     std::string thinParts = "on";
     std::string refineInput = "on"; ///< --refine-input: remesh::refineCoarseInput() before the field
+    std::string dislocations = "move"; ///< --dislocations keep|move|remove (RemeshOptions::dislocationReach)
+    bool dislocationsGiven = false;
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
     double featureAngle = 50; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
@@ -148,6 +151,9 @@ void runRemesh(const RemeshCliOptions &opt) {
         throw InputError(FileLoc{"--thin-parts"}, "'" + opt.thinParts + "' is not on or off", "use on or off");
     if (opt.refineInput != "on" && opt.refineInput != "off")
         throw InputError(FileLoc{"--refine-input"}, "'" + opt.refineInput + "' is not on or off", "use on or off");
+    if (opt.dislocations != "keep" && opt.dislocations != "move" && opt.dislocations != "remove")
+        throw InputError(FileLoc{"--dislocations"}, "'" + opt.dislocations + "' is not keep, move or remove",
+                         "use keep, move or remove");
     if (opt.symmetry != 4 && opt.symmetry != 6)
         throw InputError(FileLoc{"--symmetry"}, "remeshing needs N = 4 (quads) or 6 (triangles), got " +
                                                     std::to_string(opt.symmetry),
@@ -184,6 +190,10 @@ void runRemesh(const RemeshCliOptions &opt) {
     // N = 6 defaults to the boundary only (179°: no crease is that sharp): a triangle
     // lattice cannot have rows along two creases at 90° (docs/remeshing.md).
     const double featureAngle = opt.featureAngleGiven || nSym == 4 ? opt.featureAngle : 179.0;
+    if (nSym != 4 && opt.dislocationsGiven && opt.dislocations != "keep")
+        throw InputError(FileLoc{"--dislocations"}, "dislocations are moved in square lattices only (N = 4), not N = " +
+                                                        std::to_string(nSym),
+                         "leave --dislocations out with -n 6");
     desc.field.spec.featureAngleDeg = featureAngle;
 
     // OpenImageIO maps while the field is built (renderer/output/image_io.h).
@@ -239,6 +249,9 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.anisotropicScale = opt.anisotropicScale;
     ropt.featureAngleDeg = featureAngle;
     ropt.maxVertices = opt.common.maxFaces;
+    ropt.dislocationReach = nSym != 4 || opt.dislocations == "keep" ? 0.0
+                            : opt.dislocations == "move"            ? remesh::kDislocationReachMove
+                                                                    : std::numeric_limits<double>::infinity();
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
     if (result.polygons.empty() && frames.mesh().nFaces() > 0) {
@@ -279,7 +292,7 @@ void runRemesh(const RemeshCliOptions &opt) {
     if (quality.topologyLost() || quality.partsMissing()) warnThinParts(opt.output, quality);
     std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
     // thin_parts is part of the hierarchy, distance_repair of the extraction
-    for (const char *stage : {"hierarchy", "thin_parts", "position", "extraction", "distance_repair"})
+    for (const char *stage : {"hierarchy", "thin_parts", "position", "dislocations", "extraction", "distance_repair"})
         if (result.timingsMs.count(stage)) ms.emplace_back(stage, result.timingsMs.at(stage));
     ms.emplace_back("remesh", remeshMs);
     ms.emplace_back("quality", qualityMs);
@@ -303,7 +316,8 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
         json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts).field("adaptive_scale", ropt.scaleStrength);
-        json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg).endObject();
+        json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg);
+        json.field("dislocations", ropt.dislocationReach > 0 ? opt.dislocations : std::string("keep")).endObject();
         if (refinement) {
             const remesh::InputRefinement &ri = *refinement;
             json.key("input_refinement").beginObject();
@@ -376,6 +390,14 @@ void addRemeshCommand(CLI::App &app, Action &action) {
                     "(docs/remeshing.md, Sharp features and boundaries)")
         ->check(CLI::Range(0.0, 179.0))
         ->capture_default_str();
+    sub->add_option("--dislocations", opt->dislocations,
+                    "move (default): the lattice's dislocations (a triangle with a valence-5 corner where a row "
+                    "is gained) moved into a partner or a singularity where that costs little (about half the "
+                    "irregular vertices, a little more spread in edge length); keep: as the position field leaves "
+                    "them; remove: all that can be moved (irregular vertices mostly at the singularities, but "
+                    "strained: edge lengths and corner angles spread); N = 4 only (docs/remeshing.md, "
+                    "Dislocations moved)")
+        ->capture_default_str();
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
         ->capture_default_str();
     sub->add_option("--report", opt->reportPath, "Write the quality report (JSON) here");
@@ -389,6 +411,7 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     sub->callback([opt, sub, &action] {
         opt->symmetryGiven = sub->get_option("--symmetry")->count() > 0;
         opt->featureAngleGiven = sub->get_option("--feature-angle")->count() > 0;
+        opt->dislocationsGiven = sub->get_option("--dislocations")->count() > 0;
         action = [opt] { runRemesh(*opt); };
     });
 }

@@ -28,6 +28,10 @@ namespace rosy::remesh {
 
 using field::Vec3;
 
+/// RemeshOptions::dislocationReach of `rosyhatch remesh --dislocations move`: the
+/// moves that cost little (docs/remeshing.md, "Dislocations moved").
+inline constexpr double kDislocationReachMove = 20;
+
 struct RemeshOptions {
     /// Target edge length in world units (> 0).
     double edgeLength = 0;
@@ -75,6 +79,11 @@ struct RemeshOptions {
     /// at least L / 4, growing back to L with distance (docs/remeshing.md, "When
     /// the topology is not kept", step 6). false: L everywhere, as before 2026-12-04.
     bool thinParts = true;
+    /// The position field's dislocations moved into pairs and into the field's
+    /// singularities before the extraction (remesh/dislocations.h; docs/remeshing.md,
+    /// "Dislocations moved"), each unit up to this cost (DislocationOptions::reach, in
+    /// lattice spacings of clear path); 0: none, infinity: all that can be moved. N = 4.
+    double dislocationReach = kDislocationReachMove;
     /// The input is subdivided until its mean edge is at most L / 2, then edges
     /// longer than L (or than a thin part's spacing) are bisected (repairs["long_edges_split"]); more vertices
     /// than this are refused (InputError: the edge length is too short).

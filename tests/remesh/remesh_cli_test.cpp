@@ -198,6 +198,26 @@ TEST(RemeshCli, AnisotropicScaleFlagReachesTheRemesher) {
     EXPECT_NE(slurp(dir / "a.obj"), slurp(dir / "b.obj"));
 }
 
+// --dislocations reaches the remesher: on the torus (no singularity) `remove`
+// leaves every vertex of valence 4, which `keep` does not; the report names the
+// mode and counts the moves.
+TEST(RemeshCli, DislocationsFlagReachesTheRemesher) {
+    const fs::path dir = workDir("dislocations");
+    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const CliRun a = runRosyhatch(dir, "remesh torus.yaml -o a.obj --edge 4% --report a.json --quiet", "a");
+    const CliRun b = runRosyhatch(
+        dir, "remesh torus.yaml -o b.obj --edge 4% --dislocations remove --report b.json --quiet", "b");
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const nlohmann::json ja = nlohmann::json::parse(slurp(dir / "a.json"));
+    const nlohmann::json jb = nlohmann::json::parse(slurp(dir / "b.json"));
+    EXPECT_EQ(jb["options"]["dislocations"], "remove");
+    EXPECT_GT(ja["quality"]["irregular"]["vertices"].get<int>(), 0);
+    EXPECT_EQ(jb["quality"]["irregular"]["vertices"].get<int>(), 0);
+    EXPECT_GT(jb["repairs"]["dislocations_moved"].get<int>(), 0);
+    EXPECT_EQ(jb["repairs"]["dislocations_left"].get<int>(), 0);
+}
+
 // --feature-angle (default 50) reaches the field and the remesher: an open
 // cylinder stays open with its χ (0) by default, and is capped (closed, χ 2)
 // with --feature-angle 0; the report carries the angle and the feature counts.
@@ -251,6 +271,8 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --feature-angle -1", "--feature-angle"},
         {"remesh missing.off -o out.obj", "missing.off"},
         {"remesh s.yaml -o out.obj --image out.gif", "--image"},
+        {"remesh s.yaml -o out.obj --dislocations some", "--dislocations: error: 'some' is not keep, move or remove"},
+        {"remesh s.yaml -o out.obj --symmetry 6 --dislocations move", "--dislocations: error: dislocations are moved in square lattices only"},
     };
     int k = 0;
     for (const Case &c : cases) {
