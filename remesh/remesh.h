@@ -7,7 +7,9 @@
 /// orientation as is; each vertex gets a point of a local lattice (squares of
 /// side L, or triangles), made consistent with its neighbours' lattices up to the
 /// field's rotational symmetry and integer translations by Gauss–Seidel
-/// smoothing on a hierarchy of vertex clusters; extraction collapses the edges
+/// smoothing on a hierarchy of vertex clusters; for N = 4 the lattice's
+/// dislocations are then moved into partners and singularities where that costs
+/// little (remesh/dislocations.h); extraction collapses the edges
 /// whose endpoints name the same lattice point, keeps those whose endpoints are
 /// neighbouring lattice points, and builds faces from the resulting graph.
 ///
