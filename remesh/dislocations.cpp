@@ -89,14 +89,12 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
     std::vector<Eigen::Vector2i> t(static_cast<size_t>(nE));
     std::vector<Eigen::Vector2d> excess(static_cast<size_t>(nE)); // t − c
     std::vector<int> rot(static_cast<size_t>(nE));
-    std::vector<char> blocked(static_cast<size_t>(nE));
     parallelFor(0, nE, [&](int64_t e) {
         const auto [i, j] = ends[size_t(e)];
         Eigen::Vector2d residual;
         t[size_t(e)] = squareOffset(lattices, i, j, &residual);
         excess[size_t(e)] = -residual;
         rot[size_t(e)] = compatIndex4(in.q[i], in.q[j], in.n[j]);
-        blocked[size_t(e)] = held[size_t(i)] || held[size_t(j)];
     }, 4096);
     const std::vector<Eigen::Vector2i> t0 = t;
     auto edgeOf = [&](int a, int b) {
@@ -141,7 +139,7 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
         }
     for (int f = 0; f < nT; ++f)
         for (Side &sd : sides[size_t(f)]) {
-            sd.open = sd.edge >= 0 && !blocked[size_t(sd.edge)];
+            sd.open = sd.edge >= 0 && !held[size_t(ends[size_t(sd.edge)][0])] && !held[size_t(ends[size_t(sd.edge)][1])];
             sd.exit = sd.open && faceCount[size_t(sd.edge)] == 1;
             if (sd.next >= 0) {
                 const Side &back = sides[size_t(sd.next)][size_t(sd.nextSlot)];
