@@ -41,6 +41,8 @@ struct RemeshCliOptions {
     std::string refineInput = "on"; ///< --refine-input: remesh::refineCoarseInput() before the field
     std::string dislocations = "move"; ///< --dislocations keep|move|remove (RemeshOptions::dislocationReach)
     bool dislocationsGiven = false;
+    double dislocationReach = 0; ///< --dislocation-reach: lattice spacings (0: the mode's own)
+    bool dislocationReachGiven = false;
     double adaptiveScale = 0;
     double anisotropicScale = remesh::RemeshOptions{}.anisotropicScale;
     double featureAngle = 50; ///< --feature-angle: degrees, 0 = off (field constraint and snapping)
@@ -190,6 +192,13 @@ void runRemesh(const RemeshCliOptions &opt) {
     // N = 6 defaults to the boundary only (179°: no crease is that sharp): a triangle
     // lattice cannot have rows along two creases at 90° (docs/remeshing.md).
     const double featureAngle = opt.featureAngleGiven || nSym == 4 ? opt.featureAngle : 179.0;
+    if (opt.dislocationReachGiven && opt.dislocations == "keep")
+        throw InputError(FileLoc{"--dislocation-reach"}, "--dislocations keep moves nothing, so it has no reach",
+                         "use --dislocations move or remove with --dislocation-reach, or leave it out");
+    if (nSym != 4 && opt.dislocationReachGiven)
+        throw InputError(FileLoc{"--dislocation-reach"}, "dislocations are moved in square lattices only (N = 4), not N = " +
+                                                             std::to_string(nSym),
+                         "leave --dislocation-reach out with -n 6");
     if (nSym != 4 && opt.dislocationsGiven && opt.dislocations != "keep")
         throw InputError(FileLoc{"--dislocations"}, "dislocations are moved in square lattices only (N = 4), not N = " +
                                                         std::to_string(nSym),
@@ -250,8 +259,10 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.featureAngleDeg = featureAngle;
     ropt.maxVertices = opt.common.maxFaces;
     ropt.dislocationReach = nSym != 4 || opt.dislocations == "keep" ? 0.0
+                            : opt.dislocationReachGiven             ? opt.dislocationReach
                             : opt.dislocations == "move"            ? remesh::kDislocationReachMove
                                                                     : std::numeric_limits<double>::infinity();
+    if (opt.dislocations == "remove") ropt.dislocationConePenalty = remesh::kDislocationConePenaltyRemove;
     auto t0 = Clock::now();
     const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
     if (result.polygons.empty() && frames.mesh().nFaces() > 0) {
@@ -317,7 +328,14 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
         json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts).field("adaptive_scale", ropt.scaleStrength);
         json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg);
-        json.field("dislocations", ropt.dislocationReach > 0 ? opt.dislocations : std::string("keep")).endObject();
+        json.field("dislocations", ropt.dislocationReach > 0 ? opt.dislocations : std::string("keep"));
+        json.key("dislocation_reach");
+        if (std::isfinite(ropt.dislocationReach)) json.value(ropt.dislocationReach);
+        else json.value("unbounded");
+        json.key("dislocation_cone_penalty");
+        if (std::isfinite(ropt.dislocationConePenalty) && ropt.dislocationReach > 0) json.value(ropt.dislocationConePenalty);
+        else json.null();
+        json.endObject();
         if (refinement) {
             const remesh::InputRefinement &ri = *refinement;
             json.key("input_refinement").beginObject();
@@ -394,10 +412,15 @@ void addRemeshCommand(CLI::App &app, Action &action) {
                     "move (default): the lattice's dislocations (a triangle with a valence-5 corner where a row "
                     "is gained) moved into a partner or a singularity where that costs little (about half the "
                     "irregular vertices, a little more spread in edge length); keep: as the position field leaves "
-                    "them; remove: all that can be moved (irregular vertices mostly at the singularities, but "
-                    "strained: edge lengths and corner angles spread); N = 4 only (docs/remeshing.md, "
-                    "Dislocations moved)")
+                    "them; remove: all that can be moved, and one that finds no partner ends beside a singularity "
+                    "(irregular vertices mostly at the singularities, but strained: edge lengths and corner angles "
+                    "spread); N = 4 only (docs/remeshing.md, Dislocations moved)")
         ->capture_default_str();
+    sub->add_option("--dislocation-reach", opt->dislocationReach,
+                    "R > 0: how far a dislocation may be moved, in lattice spacings of clear path, instead of the "
+                    "mode's own (move: 20, remove: unbounded); larger: fewer irregular vertices, more strain "
+                    "(docs/remeshing.md, Dislocations moved)")
+        ->check(CLI::PositiveNumber);
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")
         ->capture_default_str();
     sub->add_option("--report", opt->reportPath, "Write the quality report (JSON) here");
@@ -412,6 +435,7 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         opt->symmetryGiven = sub->get_option("--symmetry")->count() > 0;
         opt->featureAngleGiven = sub->get_option("--feature-angle")->count() > 0;
         opt->dislocationsGiven = sub->get_option("--dislocations")->count() > 0;
+        opt->dislocationReachGiven = sub->get_option("--dislocation-reach")->count() > 0;
         action = [opt] { runRemesh(*opt); };
     });
 }

@@ -158,11 +158,29 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
     const Eigen::Vector2i zero(0, 0);
     for (int f = 0; f < nT; ++f) stats.before += turnOf[size_t(f)] == 0 && b[size_t(f)] != zero;
 
+    // The reach in lattice spacings becomes a cost: a path across clear edges costs
+    // about one per edge crossed, and a spacing is this many of the level's edges.
+    double edgeSum = 0, spacingSum = 0;
+    for (int e = 0; e < nE; ++e) edgeSum += (in.p[ends[size_t(e)][1]] - in.p[ends[size_t(e)][0]]).norm();
+    for (int i = 0; i < nV; ++i) spacingSum += std::sqrt(in.s[i] * in.s2[i]);
+    const double edgesPerSpacing = edgeSum > 0 && nV > 0 ? (spacingSum / nV) / (edgeSum / std::max(1, nE)) : 1.0;
+    // A cone may also take a unit that leaves it one unit outside its class (the cone
+    // with a dislocation beside it) at this extra cost, within coneReach; infinity: it
+    // may not.
+    const double parkPenalty = options.conePenalty * edgesPerSpacing;
+    const double parkReach = options.coneReach * edgesPerSpacing;
+    auto coneParks = [&](int f, const Eigen::Vector2i &x) { return (b[size_t(f)] + x).cwiseAbs().sum() <= 1; };
     // Does adding x to singular triangle f's vector leave it a translation the cone absorbs?
     auto coneTakes = [&](int f, const Eigen::Vector2i &x) {
         const Eigen::Vector2i y = b[size_t(f)] + x;
         return turnOf[size_t(f)] == 2 ? (y.x() % 2 == 0 && y.y() % 2 == 0) : ((y.x() + y.y()) % 2 == 0);
     };
+    auto conesOutside = [&] {
+        int count = 0;
+        for (int f = 0; f < nT; ++f) count += turnOf[size_t(f)] != 0 && !coneTakes(f, zero);
+        return count;
+    };
+    stats.conesWithOneBefore = conesOutside();
     // The unit change of edge e's offset that moves x out of triangle side sd.
     auto changeFor = [](const Side &sd, const Eigen::Vector2i &x) { return Eigen::Vector2i(-sd.sign * turn(x, -sd.rot)); };
     // 1 + 2 δ·(t − c) for the unit δ (one component ±1), at least costFloor.
@@ -203,15 +221,15 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
         const auto later = std::greater<std::pair<double, int>>();
         s.node[size_t(f0)] = Node{0.0, -1, -1, int8_t(unit.x()), int8_t(unit.y())};
         s.heap.push_back({0.0, f0});
-        int sink = -1, exitFace = -1, exitSlot = -1;
-        double exitCost = std::numeric_limits<double>::infinity();
+        int sink = -1, exitFace = -1, exitSlot = -1, parkFace = -1;
+        double exitCost = std::numeric_limits<double>::infinity(), parkCost = exitCost;
         while (!s.heap.empty()) {
             std::pop_heap(s.heap.begin(), s.heap.end(), later);
             const auto [d, f] = s.heap.back();
             s.heap.pop_back();
             const Node &nf = s.node[size_t(f)];
             if (d > nf.dist) continue;
-            if (d > cap || d >= exitCost) break;
+            if (d > cap || d >= std::min(exitCost, parkCost)) break;
             const Eigen::Vector2i x(nf.cx, nf.cy);
             if (f != f0) {
                 if (turnOf[size_t(f)] != 0) {
@@ -219,6 +237,8 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
                         sink = f;
                         break;
                     }
+                    if (d + parkPenalty < parkCost && d + parkPenalty <= std::min(cap, parkReach) && coneParks(f, x))
+                        parkCost = d + parkPenalty, parkFace = f;
                     continue; // a cone is not crossed
                 }
                 if ((b[size_t(f)] + x).cwiseAbs().sum() < b[size_t(f)].cwiseAbs().sum()) {
@@ -245,6 +265,7 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
         }
         Move mv;
         auto carried = [&](int f) { return Eigen::Vector2i(s.node[size_t(f)].cx, s.node[size_t(f)].cy); };
+        if (sink < 0 && parkFace >= 0 && parkCost <= exitCost) sink = parkFace; // nothing cheaper found
         int g = sink;
         if (sink >= 0) mv.sink = sink, mv.arriving = carried(sink);
         else if (exitFace >= 0) {
@@ -290,12 +311,6 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
         changedFaces.push_back(f0);
         ++stats.moved;
     };
-    // The reach in lattice spacings becomes a cost: a path across clear edges costs
-    // about one per edge crossed, and a spacing is this many of the level's edges.
-    double edgeSum = 0, spacingSum = 0;
-    for (int e = 0; e < nE; ++e) edgeSum += (in.p[ends[size_t(e)][1]] - in.p[ends[size_t(e)][0]]).norm();
-    for (int i = 0; i < nV; ++i) spacingSum += std::sqrt(in.s[i] * in.s2[i]);
-    const double edgesPerSpacing = edgeSum > 0 && nV > 0 ? (spacingSum / nV) / (edgeSum / std::max(1, nE)) : 1.0;
     const double reach = options.reach * edgesPerSpacing;
     const int passes = std::isfinite(options.reach) ? std::max(1, options.passes) : 1;
     for (int pass = 0; pass < passes && options.reach > 0; ++pass) {
@@ -339,6 +354,7 @@ DislocationStats moveDislocations(const DislocationInput &in, const DislocationO
         }
     }
     for (int f = 0; f < nT; ++f) stats.left += turnOf[size_t(f)] == 0 && burgers(f) != zero;
+    stats.conesWithOne = conesOutside();
     if (stats.moved == 0) return stats;
 
     // The lattice points solved again for the changed offsets: unknowns x_i (the

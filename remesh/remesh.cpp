@@ -1895,11 +1895,14 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
                        std::min(Fm.s[i], Fm.s2[i]) < 0.5 * lat.s;
         DislocationOptions dopt;
         dopt.reach = options.dislocationReach;
+        dopt.conePenalty = options.dislocationConePenalty;
         const DislocationStats ds = moveDislocations(
             DislocationInput{Fm.p, Fm.n, Fm.q, Fm.o, Fm.s, Fm.s2, Fm.adjOffset, Fm.adj, Fm.tris, fixed}, dopt);
         result.repairs["dislocations_before"] = ds.before;
         result.repairs["dislocations_moved"] = ds.moved;
         result.repairs["dislocations_left"] = ds.left;
+        result.repairs["dislocations_beside_cones_before"] = ds.conesWithOneBefore;
+        result.repairs["dislocations_beside_cones"] = ds.conesWithOne;
         result.repairs["dislocation_solve_iterations"] = ds.iterations;
         result.timingsMs["dislocations"] = msSince(td);
     }

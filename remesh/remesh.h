@@ -22,6 +22,7 @@
 #include "field/rosy.h"
 #include "field/singularities.h"
 
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -33,6 +34,10 @@ using field::Vec3;
 /// RemeshOptions::dislocationReach of `rosyhatch remesh --dislocations move`: the
 /// moves that cost little (docs/remeshing.md, "Dislocations moved").
 inline constexpr double kDislocationReachMove = 20;
+/// RemeshOptions::dislocationConePenalty of `--dislocations remove`: a unit ends beside
+/// a cone when no partner is within five lattice spacings more of path
+/// (docs/remeshing.md, "Dislocations beside the cones").
+inline constexpr double kDislocationConePenaltyRemove = 5;
 
 struct RemeshOptions {
     /// Target edge length in world units (> 0).
@@ -86,6 +91,12 @@ struct RemeshOptions {
     /// "Dislocations moved"), each unit up to this cost (DislocationOptions::reach, in
     /// lattice spacings of clear path); 0: none, infinity: all that can be moved. N = 4.
     double dislocationReach = kDislocationReachMove;
+    /// A unit may also end beside a singularity (the cone takes it although it leaves
+    /// the cone one unit outside its class: an irregular vertex next to the singular
+    /// one) at this extra cost in lattice spacings (DislocationOptions::conePenalty);
+    /// infinity: only into partners and cones it completes (`move`). `remove` uses
+    /// kDislocationConePenaltyRemove.
+    double dislocationConePenalty = std::numeric_limits<double>::infinity();
     /// The input is subdivided until its mean edge is at most L / 2, then edges
     /// longer than L (or than a thin part's spacing) are bisected (repairs["long_edges_split"]); more vertices
     /// than this are refused (InputError: the edge length is too short).

@@ -216,6 +216,29 @@ TEST(RemeshCli, DislocationsFlagReachesTheRemesher) {
     EXPECT_EQ(jb["quality"]["irregular"]["vertices"].get<int>(), 0);
     EXPECT_GT(jb["repairs"]["dislocations_moved"].get<int>(), 0);
     EXPECT_EQ(jb["repairs"]["dislocations_left"].get<int>(), 0);
+    // the reach and the cone penalty of each mode, as the report names them
+    EXPECT_EQ(ja["options"]["dislocation_reach"], 20.0);
+    EXPECT_TRUE(ja["options"]["dislocation_cone_penalty"].is_null());
+    EXPECT_EQ(jb["options"]["dislocation_reach"], "unbounded");
+    EXPECT_EQ(jb["options"]["dislocation_cone_penalty"], 5.0);
+}
+
+// --dislocation-reach replaces the mode's reach: a short one moves fewer units
+// than `move`'s 20 spacings on the bumpy ellipsoid, and the report carries it.
+TEST(RemeshCli, DislocationReachReachesTheRemesher) {
+    const fs::path dir = workDir("reach");
+    std::ofstream(dir / "e.yaml") << "mesh: {primitive: ellipsoid, subdivisions: 4, a: 1.0, b: 0.7, c: 0.5}\n"
+                                      "field: {symmetry: 4}\n";
+    const CliRun a = runRosyhatch(dir, "remesh e.yaml -o a.obj --edge 3% --report a.json --quiet", "a");
+    const CliRun b = runRosyhatch(dir, "remesh e.yaml -o b.obj --edge 3% --dislocation-reach 1 --report b.json --quiet", "b");
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const nlohmann::json ja = nlohmann::json::parse(slurp(dir / "a.json"));
+    const nlohmann::json jb = nlohmann::json::parse(slurp(dir / "b.json"));
+    EXPECT_EQ(jb["options"]["dislocations"], "move");
+    EXPECT_EQ(jb["options"]["dislocation_reach"], 1.0);
+    EXPECT_LT(jb["repairs"]["dislocations_moved"].get<int>(), ja["repairs"]["dislocations_moved"].get<int>());
+    EXPECT_GT(jb["repairs"]["dislocations_left"].get<int>(), ja["repairs"]["dislocations_left"].get<int>());
 }
 
 // --feature-angle (default 50) reaches the field and the remesher: an open
@@ -273,6 +296,11 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --image out.gif", "--image"},
         {"remesh s.yaml -o out.obj --dislocations some", "--dislocations: error: 'some' is not keep, move or remove"},
         {"remesh s.yaml -o out.obj --symmetry 6 --dislocations move", "--dislocations: error: dislocations are moved in square lattices only"},
+        {"remesh s.yaml -o out.obj --dislocation-reach 0", "--dislocation-reach"},
+        {"remesh s.yaml -o out.obj --dislocation-reach -5", "--dislocation-reach"},
+        {"remesh s.yaml -o out.obj --dislocation-reach far", "--dislocation-reach"},
+        {"remesh s.yaml -o out.obj --dislocations keep --dislocation-reach 10", "--dislocation-reach: error: --dislocations keep moves nothing"},
+        {"remesh s.yaml -o out.obj --symmetry 6 --dislocation-reach 10", "--dislocation-reach: error: dislocations are moved in square lattices only"},
     };
     int k = 0;
     for (const Case &c : cases) {

@@ -406,6 +406,32 @@ TEST(Remesh, MovedDislocationsLowerTheIrregularVerticesOnTheBumpySphere) {
     ASSERT_EQ(moved[0].result.positions, moved[1].result.positions);
 }
 
+TEST(Remesh, RemovedDislocationsWithoutPartnersEndBesideTheCones) {
+    // `remove` moves every unit it can; one that finds no partner and no cone it
+    // completes stays where it is, far from any singularity, unless a cone may take
+    // it alone (RemeshOptions::dislocationConePenalty): then it ends beside the cone,
+    // and a later unit may complete that cone's class. On the bumpy ellipsoid fewer
+    // units are left away from the singularities, and more of the irregular vertices
+    // lie near one (judged on the output by remesh/quality.cpp's own distances).
+    const Mesh mesh = field::makeEllipsoid(4, 1.0, 0.7, 0.5);
+    field::FieldSpec spec;
+    spec.nSym = 4;
+    RemeshOptions opt;
+    opt.dislocationReach = std::numeric_limits<double>::infinity();
+    EXPECT_TRUE(std::isinf(opt.dislocationConePenalty)); // not by default
+    const Remeshed alone = helpers::remeshAndMeasure(mesh, spec, opt, 0.03);
+    opt.dislocationConePenalty = kDislocationConePenaltyRemove;
+    const Remeshed beside = helpers::remeshAndMeasure(mesh, spec, opt, 0.03);
+    expectValidClosed(beside.quality, 2);
+    const auto &ra = alone.result.repairs, &rb = beside.result.repairs;
+    ASSERT_GT(ra.at("dislocations_left"), 0); // what there is to place
+    EXPECT_LT(rb.at("dislocations_left"), ra.at("dislocations_left"));
+    EXPECT_GT(rb.at("dislocations_moved"), ra.at("dislocations_moved"));
+    const QualityReport &a = alone.quality, &b = beside.quality;
+    EXPECT_LT(b.irregularVertices - b.irregularNearSingularity, a.irregularVertices - a.irregularNearSingularity);
+    EXPECT_EQ(b.singularitiesMarked, b.singularities);
+}
+
 TEST(Remesh, RejectsOtherSymmetriesAndBadLengths) {
     const Mesh mesh = field::makeIcosphere(2);
     const field::TangentFrames frames(mesh);
