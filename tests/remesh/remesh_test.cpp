@@ -411,8 +411,8 @@ TEST(Remesh, RemovedDislocationsWithoutPartnersEndBesideTheCones) {
     // completes stays where it is, far from any singularity, unless a cone may take
     // it alone (RemeshOptions::dislocationConePenalty): then it ends beside the cone,
     // and a later unit may complete that cone's class. On the bumpy ellipsoid fewer
-    // units are left away from the singularities, and more of the irregular vertices
-    // lie near one (judged on the output by remesh/quality.cpp's own distances).
+    // units are left, and fewer irregular vertices lie farther than 2 L from a
+    // singularity (judged on the output by remesh/quality.cpp's own distances).
     const Mesh mesh = field::makeEllipsoid(4, 1.0, 0.7, 0.5);
     field::FieldSpec spec;
     spec.nSym = 4;
