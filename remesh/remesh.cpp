@@ -17,10 +17,11 @@
 #include "remesh/polygon_ops.h"
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <tbb/task_group.h>
+
+#include <Eigen/CholmodSupport>
 
 #include <algorithm>
 #include <queue>
@@ -151,6 +152,22 @@ Vec3 perpendicularUnit(const Vec3 &n) {
     return (a - n * n.dot(a)).normalized();
 }
 
+/// Solves A x = b for the scale functions' symmetric positive definite A (both
+/// triangles stored) by CHOLMOD's supernodal Cholesky (SuiteSparse; BLAS on one
+/// thread, field/sparse_solver.cpp, so the same bits for any thread count): on
+/// bunny00 at 1 % (75k unknowns) 0.30 s against 0.49 s for Eigen's simplicial LDLᵀ,
+/// which the hierarchy waited for. Empty when A is not positive definite (CHOLMOD's
+/// own messages off: the caller falls back to no scaling).
+Eigen::VectorXd solveScaleSystem(const Eigen::SparseMatrix<double> &A, const Eigen::VectorXd &b) {
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    solver.cholmod().print = 0;
+    solver.compute(A);
+    if (solver.info() != Eigen::Success) return {};
+    Eigen::VectorXd x = solver.solve(b);
+    if (solver.info() != Eigen::Success) return {};
+    return x;
+}
+
 /// The scale function φ of the lattice (spacing L e^φ): the part of the frame
 /// field's curl a smooth change of edge length can absorb. With ω₁ = q·dx and
 /// ω₂ = (n×q)·dx, lattice coordinates du_k = e^{−φ} ω_k / L close around every
@@ -201,9 +218,8 @@ std::vector<double> scaleFunction(const Level &L, const std::vector<std::array<i
     for (int v = 0; v < nV; ++v) trip.emplace_back(v, v, 1e-8);
     Eigen::SparseMatrix<double> A(nV, nV);
     A.setFromTriplets(trip.begin(), trip.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-    if (solver.info() != Eigen::Success) return std::vector<double>(nV, 0.0);
-    const Eigen::VectorXd x = solver.solve(rhs);
+    const Eigen::VectorXd x = solveScaleSystem(A, rhs);
+    if (x.size() != nV) return std::vector<double>(nV, 0.0);
     std::vector<double> phi(nV);
     for (int v = 0; v < nV; ++v) phi[v] = std::isfinite(x[v]) ? x[v] : 0.0;
     return phi;
@@ -272,9 +288,8 @@ std::vector<double> anisotropicScale(const Level &L, const std::vector<std::arra
     Eigen::SparseMatrix<double> A(2 * nV, 2 * nV);
     A.setFromTriplets(trip.begin(), trip.end());
     std::vector<Eigen::Triplet<double>>().swap(trip); // 42 per triangle: freed before the factorisation
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-    if (solver.info() != Eigen::Success) return std::vector<double>(2 * size_t(nV), 0.0);
-    const Eigen::VectorXd x = solver.solve(rhs);
+    const Eigen::VectorXd x = solveScaleSystem(A, rhs);
+    if (x.size() != 2 * nV) return std::vector<double>(2 * size_t(nV), 0.0);
     std::vector<double> phi(2 * size_t(nV));
     for (int v = 0; v < 2 * nV; ++v) phi[size_t(v)] = std::isfinite(x[v]) ? x[v] : 0.0;
     return phi;
