@@ -50,15 +50,22 @@ constexpr size_t kWindow = 8;
 /// dislocations moved collapsed it: an empty remesh).
 constexpr double kBentRadius = 2;
 
+/// A lattice spacing below this many L marks a thin part (held).
+constexpr double kThinSpacing = 0.5;
+
 } // namespace
 
 DislocationStats moveDislocations(const DislocationInput &in, const DislocationOptions &options) {
     DislocationStats stats;
     const int nV = int(in.p.size());
     const SquareLattices lattices{in.p, in.n, in.q, in.o, in.s, in.s2};
-    // Fixed lattice points and the rings around them, and points where the surface
-    // bends with a radius below half the spacing (kBentRadius): not moved, not crossed.
-    std::vector<char> held(in.fixed);
+    // Held (DislocationInput): the kept lattice points and thin parts, the rings
+    // around them, and points where the surface bends with a radius below half the
+    // spacing (kBentRadius): not moved, not crossed.
+    std::vector<char> held(static_cast<size_t>(nV), 0);
+    for (int i = 0; i < nV; ++i)
+        held[size_t(i)] = in.pinned[size_t(i)] || (!in.onLine.empty() && in.onLine[size_t(i)]) ||
+                          (!in.corner.empty() && in.corner[size_t(i)]) || std::min(in.s[i], in.s2[i]) < kThinSpacing * in.L;
     for (int ring = 0; ring < options.heldRings; ++ring) {
         std::vector<char> next(held);
         for (int i = 0; i < nV; ++i)

@@ -1901,18 +1901,13 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     if (lat.nSym == 4 && options.dislocationReach > 0) {
         const auto td = Clock::now();
         Level &Fm = levels[0];
-        std::vector<char> fixed(Fm.pinned);
-        // Held: pinned points, feature lines and corners, and thin parts (a spacing
-        // below L/2 comes only from their caps; moves there lost a part of CGAL's
-        // femur: distance 1.18 % -> 2.08 %).
-        for (size_t i = 0; i < fixed.size(); ++i)
-            fixed[i] = fixed[i] || (!Fm.onLine.empty() && Fm.onLine[i]) || (!Fm.corner.empty() && Fm.corner[i]) ||
-                       std::min(Fm.s[i], Fm.s2[i]) < 0.5 * lat.s;
         DislocationOptions dopt;
         dopt.reach = options.dislocationReach;
         dopt.conePenalty = options.dislocationConePenalty;
         const DislocationStats ds = moveDislocations(
-            DislocationInput{Fm.p, Fm.n, Fm.q, Fm.o, Fm.s, Fm.s2, Fm.adjOffset, Fm.adj, Fm.tris, fixed}, dopt);
+            DislocationInput{Fm.p, Fm.n, Fm.q, Fm.o, Fm.s, Fm.s2, Fm.adjOffset, Fm.adj, Fm.tris, Fm.pinned, Fm.onLine,
+                             Fm.corner, lat.s},
+            dopt);
         result.repairs["dislocations_before"] = ds.before;
         result.repairs["dislocations_moved"] = ds.moved;
         result.repairs["dislocations_left"] = ds.left;
