@@ -228,14 +228,6 @@ bool blockLobpcg(const SparseMatrixC &A, const Eigen::VectorXd &m, const TwoLeve
     return false;
 }
 
-// Smallest eigenvector of A u = λ M u (M = diag(m)), M-normalised, by LOBPCG
-// (Knyazev 2001) with block size one and the two-level preconditioner of
-// A + σM, σ the coarse (Galerkin) eigenvalue. Start: the coarse eigenvector by
-// inverse iteration on the coarse factorization, prolonged. Stops when
-// ‖A x − λ M x‖_{M⁻¹} ≤ 1e-3 · max(λ, 1e-8 scale), x M-normalised (the eigenvalue
-// error is quadratic in the residual, ~1e-6 λ²/gap; the test checks it against a
-// dense solve with the Kato–Temple bound). Falls back
-// to inverse iteration on a sparse factorization if it stalls.
 /// Runs body(lo, len) over [0, n) in fixed blocks, in parallel: for LOBPCG's
 /// element-by-element vector updates, each a segment of the whole-vector expression,
 /// so every element gets the same arithmetic and the same bits for any thread count
@@ -249,6 +241,14 @@ template <typename Body> void forBlocks(Eigen::Index n, Body &&body) {
     }, 1);
 }
 
+// Smallest eigenvector of A u = λ M u (M = diag(m)), M-normalised, by LOBPCG
+// (Knyazev 2001) with block size one and the two-level preconditioner of
+// A + σM, σ the coarse (Galerkin) eigenvalue. Start: the coarse eigenvector by
+// inverse iteration on the coarse factorization, prolonged. Stops when
+// ‖A x − λ M x‖_{M⁻¹} ≤ 1e-3 · max(λ, 1e-8 scale), x M-normalised (the eigenvalue
+// error is quadratic in the residual, ~1e-6 λ²/gap; the test checks it against a
+// dense solve with the Kato–Temple bound). Falls back
+// to inverse iteration on a sparse factorization if it stalls.
 Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const std::vector<int> &freeId,
                                    const SparseMatrixC &A, const Eigen::VectorXd &m, const SmoothestOptions &options,
                                    EigenSolveReport &report) {

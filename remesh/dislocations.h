@@ -76,8 +76,9 @@ struct DislocationOptions {
     int passes = 5;
     double costFloor = 0.01;
     /// The kept lattice points and thin parts (DislocationInput) and this many rings
-    /// of neighbours around them are neither moved nor crossed (a boundary corner lost its output vertex otherwise:
-    /// CGAL's blobby_3cc, two-sided distance 0.57 % -> 1.32 % without).
+    /// of neighbours around them are neither moved nor crossed (a boundary corner
+    /// lost its output vertex otherwise: CGAL's blobby_3cc, two-sided distance
+    /// 0.57 % -> 1.32 % without).
     int heldRings = 2;
     /// A cone may also take a unit that leaves it one unit outside its class: the
     /// cone with a dislocation beside it, an irregular vertex next to the singularity
