@@ -2,6 +2,7 @@
 /// See polygon_ops.h.
 
 #include "remesh/polygon_ops.h"
+#include "core/parallel.h"
 
 #include "field/mesh/mesh_stats.h"
 #include "field/mesh/union_find.h"
@@ -763,21 +764,30 @@ std::vector<EdgeCrossing> findCrossingEdges(const std::vector<std::set<int>> &gr
             if (cn[size_t(v)].dot(unit) < 0.9 || std::abs((cp[size_t(v)] - o).dot(unit)) > nearPlane) return false;
         return true;
     };
-    std::vector<std::pair<int, int>> tested;
-    for (int a = 0; a < nC; ++a)
-        for (int b : graph[size_t(a)]) {
-            if (b <= a) continue;
-            tested.clear();
-            for (int s : {a, b})
-                for (int c : graph[size_t(s)])
-                    for (int d : graph[size_t(c)]) {
-                        if (c == a || c == b || d == a || d == b) continue;
-                        const std::pair<int, int> cd{std::min(c, d), std::max(c, d)};
-                        if (std::find(tested.begin(), tested.end(), cd) != tested.end()) continue;
-                        tested.push_back(cd);
-                        if (crosses(a, b, c, d)) found.push_back({a, b, cd.first, cd.second});
-                    }
-        }
+    // In fixed chunks of vertices on both cores, each chunk's crossings in its own
+    // list, joined in chunk order: the same list, in the same order, for any thread count.
+    constexpr int kChunk = 2048;
+    const int nChunks = (nC + kChunk - 1) / kChunk;
+    std::vector<std::vector<EdgeCrossing>> perChunk(static_cast<size_t>(nChunks));
+    parallelFor(0, nChunks, [&](int64_t chunk) {
+        std::vector<std::pair<int, int>> tested;
+        std::vector<EdgeCrossing> &out = perChunk[size_t(chunk)];
+        for (int a = int(chunk) * kChunk, end = std::min(nC, (int(chunk) + 1) * kChunk); a < end; ++a)
+            for (int b : graph[size_t(a)]) {
+                if (b <= a) continue;
+                tested.clear();
+                for (int s : {a, b})
+                    for (int c : graph[size_t(s)])
+                        for (int d : graph[size_t(c)]) {
+                            if (c == a || c == b || d == a || d == b) continue;
+                            const std::pair<int, int> cd{std::min(c, d), std::max(c, d)};
+                            if (std::find(tested.begin(), tested.end(), cd) != tested.end()) continue;
+                            tested.push_back(cd);
+                            if (crosses(a, b, c, d)) out.push_back({a, b, cd.first, cd.second});
+                        }
+            }
+    }, 1);
+    for (const std::vector<EdgeCrossing> &part : perChunk) found.insert(found.end(), part.begin(), part.end());
     return found;
 }
 
