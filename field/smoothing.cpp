@@ -228,18 +228,11 @@ bool blockLobpcg(const SparseMatrixC &A, const Eigen::VectorXd &m, const TwoLeve
     return false;
 }
 
-/// Runs body(lo, len) over [0, n) in fixed blocks, in parallel: for LOBPCG's
-/// element-by-element vector updates, each a segment of the whole-vector expression,
-/// so every element gets the same arithmetic and the same bits for any thread count
-/// (a single thread did them before: a fifth of the smoothest field's time).
-template <typename Body> void forBlocks(Eigen::Index n, Body &&body) {
-    constexpr int64_t kUpdateBlock = 4096;
-    const int64_t blocks = (int64_t(n) + kUpdateBlock - 1) / kUpdateBlock;
-    parallelFor(0, blocks, [&](int64_t k) {
-        const Eigen::Index lo = Eigen::Index(k * kUpdateBlock);
-        body(lo, std::min<Eigen::Index>(Eigen::Index(kUpdateBlock), n - lo));
-    }, 1);
-}
+/// LOBPCG's element-by-element vector updates run over chunks of at least this many
+/// entries on both cores (core/parallel.h's parallelForRange): each chunk the same Eigen
+/// expression on its segment, so every entry gets the same arithmetic and the same
+/// bits for any thread count and any chunking.
+constexpr int64_t kUpdateGrain = 4096;
 
 // Smallest eigenvector of A u = λ M u (M = diag(m)), M-normalised, by LOBPCG
 // (Knyazev 2001) with block size one and the two-level preconditioner of
@@ -345,10 +338,11 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
                 break;
             }
             r.resize(n);
-            forBlocks(n, [&](Eigen::Index lo, Eigen::Index len) {
+            parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
+                const Eigen::Index len = Eigen::Index(hi - lo);
                 r.segment(lo, len) =
                     Ax.segment(lo, len) - lambda * (m.segment(lo, len).cast<Complex>().cwiseProduct(x.segment(lo, len)));
-            });
+            }, kUpdateGrain);
             rNorm = std::sqrt(std::real(blockDot(r, invM, r)));
             report.lobpcgIterations = it + 1;
             if (!std::isfinite(rNorm)) {
@@ -368,17 +362,19 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
                 for (int pass = 0; pass < 2; ++pass)
                     for (size_t k = 0; k < basis.size(); ++k) {
                         const Complex c = mDot(*basis[k], v);
-                        forBlocks(n, [&](Eigen::Index lo, Eigen::Index len) {
+                        parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
+                const Eigen::Index len = Eigen::Index(hi - lo);
                             v.segment(lo, len) -= c * basis[k]->segment(lo, len);
                             if (Av) Av->segment(lo, len) -= c * images[k]->segment(lo, len);
-                        });
+                        }, kUpdateGrain);
                     }
                 const double after = std::sqrt(std::real(mDot(v, v)));
                 if (!(after > 1e-10 * before) || !(after > 0)) return false;
-                forBlocks(n, [&](Eigen::Index lo, Eigen::Index len) {
+                parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
+                const Eigen::Index len = Eigen::Index(hi - lo);
                     v.segment(lo, len) /= after;
                     if (Av) Av->segment(lo, len) /= after;
-                });
+                }, kUpdateGrain);
                 return true;
             };
             if (haveP && orthonormalize(p, &Ap)) {
@@ -402,7 +398,8 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
             const Eigen::VectorXcd c = es.eigenvectors().col(0);
             // New search direction: the part of the update outside x.
             Eigen::VectorXcd pNew(n), ApNew(n);
-            forBlocks(n, [&](Eigen::Index lo, Eigen::Index len) {
+            parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
+                const Eigen::Index len = Eigen::Index(hi - lo);
                 pNew.segment(lo, len).setZero();
                 ApNew.segment(lo, len).setZero();
                 for (int a = 1; a < k; ++a) {
@@ -411,15 +408,16 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
                 }
                 x.segment(lo, len) = c[0] * x.segment(lo, len) + pNew.segment(lo, len);
                 Ax.segment(lo, len) = c[0] * Ax.segment(lo, len) + ApNew.segment(lo, len);
-            });
+            }, kUpdateGrain);
             p.swap(pNew);
             Ap.swap(ApNew);
             haveP = k > 1;
             const double xNorm = std::sqrt(std::real(mDot(x, x)));
-            forBlocks(n, [&](Eigen::Index lo, Eigen::Index len) {
+            parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
+                const Eigen::Index len = Eigen::Index(hi - lo);
                 x.segment(lo, len) /= xNorm;
                 Ax.segment(lo, len) /= xNorm;
-            });
+            }, kUpdateGrain);
             lambda = std::real(blockDot(x, Ax));
         }
         if (report.fallbackReason.empty())
