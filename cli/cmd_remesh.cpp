@@ -15,6 +15,7 @@
 #include "remesh/input_refinement.h"
 #include "remesh/quality.h"
 #include "remesh/remesh.h"
+#include "remesh/streamline_network.h"
 #include "renderer/mesh_picture.h"
 #include "renderer/output/image_io.h"
 #include "renderer/output/svg.h"
@@ -37,6 +38,8 @@ struct RemeshCliOptions {
     std::string imagePath; ///< --image: a picture of the remeshed surface (raster or .svg)
     std::string edge = "1%"; ///< world units, or a percentage of the bounding-box diagonal
     std::string separatrices = "off";
+    std::string method = "position"; ///< --method position|streamlines
+    std::vector<std::string> positionOnlyGiven; ///< position-field options given on the command line
     std::string thinParts = "on";
     std::string refineInput = "on"; ///< --refine-input: remesh::refineCoarseInput() before the field
     std::string dislocations = "move"; ///< --dislocations keep|move|remove (RemeshOptions::dislocationReach)
@@ -149,6 +152,13 @@ void runRemesh(const RemeshCliOptions &opt) {
                          "use .obj, .off or .ply (STL has triangles only)");
     if (opt.separatrices != "on" && opt.separatrices != "off")
         throw InputError(FileLoc{"--separatrices"}, "'" + opt.separatrices + "' is not on or off", "use on or off");
+    if (opt.method != "position" && opt.method != "streamlines")
+        throw InputError(FileLoc{"--method"}, "'" + opt.method + "' is not position or streamlines",
+                         "use position (the default) or streamlines");
+    if (opt.method == "streamlines" && !opt.positionOnlyGiven.empty())
+        throw InputError(FileLoc{opt.positionOnlyGiven.front()},
+                         opt.positionOnlyGiven.front() + " is an option of the position field, which --method streamlines does not use",
+                         "leave it out, or use --method position");
     if (opt.thinParts != "on" && opt.thinParts != "off")
         throw InputError(FileLoc{"--thin-parts"}, "'" + opt.thinParts + "' is not on or off", "use on or off");
     if (opt.refineInput != "on" && opt.refineInput != "off")
@@ -264,7 +274,16 @@ void runRemesh(const RemeshCliOptions &opt) {
                                                                     : std::numeric_limits<double>::infinity();
     if (opt.dislocations == "remove") ropt.dislocationConePenalty = remesh::kDislocationConePenaltyRemove;
     auto t0 = Clock::now();
-    const remesh::RemeshResult result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
+    remesh::RemeshResult result;
+    if (opt.method == "streamlines") {
+        remesh::StreamlineNetworkOptions sopt;
+        sopt.edgeLength = edgeLength;
+        sopt.separatrices = ropt.separatrices;
+        sopt.maxVertices = opt.common.maxFaces;
+        result = remesh::remeshStreamlines(frames, rosyField, sf.field.singularities, sopt);
+    } else {
+        result = remesh::remesh(frames, rosyField, sf.field.singularities, ropt);
+    }
     if (result.polygons.empty() && frames.mesh().nFaces() > 0) {
         char length[64];
         std::snprintf(length, sizeof length, "%.4g", edgeLength);
@@ -303,7 +322,8 @@ void runRemesh(const RemeshCliOptions &opt) {
     if (quality.topologyLost() || quality.partsMissing()) warnThinParts(opt.output, quality);
     std::vector<std::pair<std::string, double>> ms = sf.timingsMs;
     // thin_parts is part of the hierarchy, distance_repair of the extraction
-    for (const char *stage : {"hierarchy", "thin_parts", "position", "dislocations", "extraction", "distance_repair"})
+    for (const char *stage : {"hierarchy", "thin_parts", "position", "dislocations", "extraction", "distance_repair",
+                              "streamlines", "arrangement"})
         if (result.timingsMs.count(stage)) ms.emplace_back(stage, result.timingsMs.at(stage));
     ms.emplace_back("remesh", remeshMs);
     ms.emplace_back("quality", qualityMs);
@@ -323,7 +343,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         JsonWriter json;
         json.beginObject();
         json.field("input", opt.input).field("output", opt.output);
-        json.field("method", "position-field");
+        json.field("method", opt.method == "streamlines" ? "streamline-network" : "position-field");
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
         json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts).field("adaptive_scale", ropt.scaleStrength);
@@ -377,7 +397,15 @@ void addRemeshCommand(CLI::App &app, Action &action) {
     sub->add_option("--edge", opt->edge, "Target edge length: world units, or N% of the bounding-box diagonal")
         ->capture_default_str();
     sub->add_option("--separatrices", opt->separatrices,
-                    "on: pin the lattice at each singularity (separatrices become lattice lines); off (default, measured better): leave it free")
+                    "on: pin the lattice at each singularity (separatrices become lattice lines), or with --method "
+                    "streamlines trace each singularity's separatrices before any other line; off (default, measured "
+                    "better): neither")
+        ->capture_default_str();
+    sub->add_option("--method", opt->method,
+                    "position (default): a field-aligned position field (Jakob et al. 2015); streamlines: the "
+                    "paper's streamline network (both directions at spacing L, separatrices first with "
+                    "--separatrices on, intersected on the surface), closed surfaces and N = 4 only, kept to "
+                    "compare (docs/remeshing.md, The streamline network, measured)")
         ->capture_default_str();
     sub->add_option("--refine-input", opt->refineInput,
                     "on (default): when faces with an edge longer than 2 L cover 5 % or more of the input's area, "
@@ -436,6 +464,10 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         opt->featureAngleGiven = sub->get_option("--feature-angle")->count() > 0;
         opt->dislocationsGiven = sub->get_option("--dislocations")->count() > 0;
         opt->dislocationReachGiven = sub->get_option("--dislocation-reach")->count() > 0;
+        opt->positionOnlyGiven.clear();
+        for (const char *name : {"--thin-parts", "--adaptive-scale", "--anisotropic-scale", "--dislocations",
+                                 "--dislocation-reach"})
+            if (sub->get_option(name)->count() > 0) opt->positionOnlyGiven.push_back(name);
         action = [opt] { runRemesh(*opt); };
     });
 }

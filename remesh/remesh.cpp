@@ -2353,7 +2353,14 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     result.repairs["stray_pieces_removed"] =
         removeStrayPieces(polygons, positions, mesh, tree, options.edgeLength);
 
-    // Into OpenMesh; compact away the vertices no polygon uses.
+    intoPolyMesh(positions, polygons, result);
+    result.timingsMs["extraction"] = msSince(t0);
+    return result;
+}
+
+void intoPolyMesh(const std::vector<Vec3> &positions, const std::vector<std::vector<int>> &polygons,
+                  RemeshResult &result) {
+    // Compact away the vertices no polygon uses.
     std::vector<int> newId(positions.size(), -1);
     for (const auto &poly : polygons)
         for (int x : poly)
@@ -2371,13 +2378,16 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         std::vector<field::PolyMesh::VertexHandle> vh;
         std::vector<int> ids;
         for (int x : poly) vh.push_back(handles[newId[x]]), ids.push_back(newId[x]);
-        if (result.poly.add_face(vh).is_valid()) result.polygons.push_back(ids);
+        // A polygon through one vertex twice is no face OpenMesh can hold (its add_face
+        // asserts on some of them rather than refusing).
+        std::vector<int> sorted = ids;
+        std::sort(sorted.begin(), sorted.end());
+        const bool repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+        if (!repeats && result.poly.add_face(vh).is_valid()) result.polygons.push_back(ids);
         else ++refused;
     }
     omerr().enable();
     result.repairs["faces_refused_by_openmesh"] = refused;
-    result.timingsMs["extraction"] = msSince(t0);
-    return result;
 }
 
 } // namespace rosy::remesh

@@ -123,4 +123,10 @@ struct RemeshResult {
 RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
                     const field::SingularityReport &singularities, const RemeshOptions &options);
 
+/// Compacts `positions` to the vertices `polygons` use and adds the polygons to
+/// result.poly and result.polygons in order; the ones OpenMesh refuses as
+/// non-manifold are left out of both and counted in repairs["faces_refused_by_openmesh"].
+void intoPolyMesh(const std::vector<Vec3> &positions, const std::vector<std::vector<int>> &polygons,
+                  RemeshResult &result);
+
 } // namespace rosy::remesh

@@ -277,6 +277,7 @@ TEST(RemeshCli, SixRosyToOffAndPly) {
 TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
     const fs::path dir = workDir("bad");
     std::ofstream(dir / "s.yaml") << "mesh: {primitive: icosphere, subdivisions: 2}\n";
+    std::ofstream(dir / "grid.yaml") << "mesh: {primitive: grid}\n";
     struct Case {
         std::string args, message;
     } cases[] = {
@@ -301,6 +302,11 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --dislocation-reach far", "--dislocation-reach"},
         {"remesh s.yaml -o out.obj --dislocations keep --dislocation-reach 10", "--dislocation-reach: error: --dislocations keep moves nothing"},
         {"remesh s.yaml -o out.obj --symmetry 6 --dislocation-reach 10", "--dislocation-reach: error: dislocations are moved in square lattices only"},
+        {"remesh s.yaml -o out.obj --method lines", "--method: error: 'lines' is not position or streamlines"},
+        {"remesh s.yaml -o out.obj --method streamlines --dislocations remove", "--dislocations: error: --dislocations is an option of the position field"},
+        {"remesh s.yaml -o out.obj --method streamlines --thin-parts off", "--thin-parts: error:"},
+        {"remesh s.yaml -o out.obj --method streamlines --symmetry 6", "-n: error: the streamline network is built for 4-RoSy fields"},
+        {"remesh grid.yaml -o out.obj --method streamlines", "error: the streamline network needs a closed surface"},
     };
     int k = 0;
     for (const Case &c : cases) {
@@ -310,6 +316,29 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         EXPECT_FALSE(fs::exists(dir / "out.obj")) << c.args;
     }
     EXPECT_EQ(slurp(dir / "s.yaml"), "mesh: {primitive: icosphere, subdivisions: 2}\n");
+}
+
+// --method streamlines: the paper's streamline network, through the same writer and
+// report (remesh/streamline_network.h).
+TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
+    const fs::path dir = workDir("streamlines");
+    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const CliRun r = runRosyhatch(
+        dir, "remesh torus.yaml -o torus.obj --edge 4% --method streamlines --report torus.json --quiet", "ok");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "torus.json"));
+    EXPECT_EQ(j["method"], "streamline-network");
+    EXPECT_GT(j["repairs"]["lines"].get<int>(), 10);
+    EXPECT_GT(j["repairs"]["crossings"].get<int>(), 100);
+    EXPECT_TRUE(j["timings_ms"].contains("streamlines"));
+    const auto &q = j["quality"];
+    EXPECT_TRUE(q["topology"]["closed"].get<bool>());
+    EXPECT_EQ(q["topology"]["euler_characteristic"], 0);
+    EXPECT_GE(q["quad_fraction"].get<double>(), 0.9);
+    int faces = 0;
+    const std::string obj = slurp(dir / "torus.obj");
+    for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
+    EXPECT_EQ(faces, q["faces"].get<int>());
 }
 
 // --image: a picture of the remeshed surface beside the mesh, raster or SVG pen layers.

@@ -1,0 +1,158 @@
+/// \file streamline_network_test.cpp
+/// The paper's streamline network remesher (remesh/streamline_network.h) on
+/// procedural surfaces, judged by the independent checks of remesh/quality.h and by
+/// what the surfaces are known to be.
+
+#include "field/field_builder.h"
+#include "field/primitives.h"
+#include "field/mesh/closest_point.h"
+#include "field/singularities.h"
+#include "remesh/quality.h"
+#include "remesh/streamline_network.h"
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+namespace rosy::remesh {
+namespace {
+
+using field::Mesh;
+
+struct Network {
+    RemeshResult result;
+    QualityReport quality;
+    field::SingularityReport singularities;
+    double edgeLength = 0;
+};
+
+Network run(const Mesh &mesh, double relativeEdge, bool separatrices, int nSym = 4) {
+    const field::TangentFrames frames(mesh);
+    field::FieldSpec spec;
+    spec.nSym = nSym;
+    spec.source = field::FieldSource::Curvature;
+    const field::FieldResult fr = field::buildField(frames, spec);
+    Network out;
+    out.singularities = field::findSingularities(frames, fr.field);
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    StreamlineNetworkOptions opt;
+    opt.edgeLength = out.edgeLength = relativeEdge * (hi - lo).norm();
+    opt.separatrices = separatrices;
+    out.result = remeshStreamlines(frames, fr.field, out.singularities, opt);
+    out.quality = measureQuality(out.result.positions, out.result.polygons, frames, fr.field, out.singularities,
+                                 opt.edgeLength);
+    return out;
+}
+
+void expectClosedValid(const QualityReport &q, int chi) {
+    EXPECT_TRUE(q.closed) << q.boundaryEdges << " boundary edges";
+    EXPECT_TRUE(q.manifold) << q.nonManifoldEdges << " edges, " << q.nonManifoldVertices << " vertices";
+    EXPECT_TRUE(q.oriented) << q.inconsistentEdges;
+    EXPECT_EQ(q.eulerCharacteristic, chi);
+    EXPECT_EQ(q.flippedFaces, 0);
+    EXPECT_EQ(q.valence2Vertices, 0);
+}
+
+// A torus's principal directions run along its two circles and it has no
+// singularity: the lines are its meridians and parallels, every crossing a right
+// angle. Lines that stop where their neighbours crowd (the inner equator is shorter)
+// leave T-junctions (valence 3) and a few pentagons, no other irregularity.
+TEST(StreamlineNetwork, TorusIsMeridiansAndParallels) {
+    const Network n = run(field::makeTorus(1.0, 0.45, 96, 40), 0.03, false);
+    const QualityReport &q = n.quality;
+    expectClosedValid(q, 0);
+    EXPECT_EQ(q.singularities, 0);
+    EXPECT_GE(q.regularFaceFraction, 0.9);
+    EXPECT_LT(q.angleDevP90Deg, 5.0);
+    EXPECT_LT(q.alignmentP90Deg, 3.0);
+    // Irregular vertices are T-junctions, where a line ends on a crossing one.
+    for (const auto &[valence, count] : q.valenceHistogram) {
+        if (valence != 4) EXPECT_EQ(valence, 3) << count;
+    }
+    // Every vertex is a crossing of two traced lines: on the (polygonal) torus.
+    const Mesh torus = field::makeTorus(1.0, 0.45, 96, 40);
+    for (const Vec3 &p : n.result.positions) {
+        double best = INFINITY;
+        for (const auto &f : torus.faces())
+            best = std::min(best, (p - field::closestPointOnTriangle(p, torus.position(f[0]), torus.position(f[1]),
+                                                                      torus.position(f[2])))
+                                      .norm());
+        ASSERT_LT(best, 1e-9) << p.transpose();
+    }
+    // The faces are flat between them: both distances within the 0.5 %.
+    EXPECT_LT(q.distanceOutToInPct, 0.5);
+    EXPECT_LT(q.distanceInToOutPct, 0.5);
+    EXPECT_EQ(n.result.repairs.at("faces_refused_by_openmesh"), 0);
+}
+
+// The rounded cube pair (Figure 4): closed, genus 0, with and without separatrices.
+// With them, every singularity whose separatrices survive is a vertex of the mesh
+// ("this allows singularities to be the vertices in the new mesh") — most of them; without, the
+// lines stop short of the singular faces and no vertex sits on a singular point.
+TEST(StreamlineNetwork, Figure4WithSeparatricesHasItsSingularitiesAsVertices) {
+    const Mesh mesh = field::makeRoundedCubePair(32);
+    for (bool separatrices : {false, true}) {
+        SCOPED_TRACE(separatrices ? "separatrices on" : "separatrices off");
+        const Network n = run(mesh, 0.03, separatrices);
+        expectClosedValid(n.quality, 2);
+        EXPECT_GE(n.quality.regularFaceFraction, 0.9);
+        int asVertex = 0;
+        for (const field::Singularity &s : n.singularities.singularities) {
+            double nearest = INFINITY;
+            for (const Vec3 &p : n.result.positions) nearest = std::min(nearest, (p - s.position).norm());
+            asVertex += nearest < 1e-9 * n.edgeLength;
+        }
+        if (separatrices) {
+            // Not all: where a singularity's separatrices all end on lines placed
+            // before them, its point is left with fewer than three edges (14 of 16 here).
+            EXPECT_GE(4 * asVertex, 3 * int(n.singularities.singularities.size()));
+        } else {
+            EXPECT_EQ(asVertex, 0);
+        }
+        RecordProperty(separatrices ? "singular_rings_p90_on" : "singular_rings_p90_off",
+                       std::to_string(n.quality.angleDevSingularRingsP90Deg));
+    }
+}
+
+TEST(StreamlineNetwork, SameOutputForAnyThreadCount) {
+    const Mesh mesh = field::makeRoundedCubePair(24);
+    Network one, two;
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        one = run(mesh, 0.04, true);
+    }
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+        two = run(mesh, 0.04, true);
+    }
+    ASSERT_EQ(one.result.positions.size(), two.result.positions.size());
+    for (size_t i = 0; i < one.result.positions.size(); ++i)
+        ASSERT_EQ(one.result.positions[i], two.result.positions[i]) << i;
+    EXPECT_EQ(one.result.polygons, two.result.polygons);
+}
+
+TEST(StreamlineNetwork, RefusesSixRosyOpenSurfacesAndTooShortEdges) {
+    EXPECT_THROW(run(field::makeIcosphere(3), 0.05, false, 6), InputError);
+    EXPECT_THROW(run(field::makeGrid(16), 0.05, false), InputError); // a boundary
+    const Mesh sphere = field::makeIcosphere(3);
+    const field::TangentFrames frames(sphere);
+    field::FieldSpec spec;
+    const field::FieldResult fr = field::buildField(frames, spec);
+    StreamlineNetworkOptions opt;
+    opt.edgeLength = 0.01; // 4π / 1e-4 ≈ 1.3e5 crossings
+    opt.maxVertices = 100000;
+    try {
+        remeshStreamlines(frames, fr.field, field::findSingularities(frames, fr.field), opt);
+        ADD_FAILURE() << "no error";
+    } catch (const InputError &e) {
+        EXPECT_NE(std::string(e.what()).find("--edge"), std::string::npos) << e.what();
+    }
+    opt.edgeLength = std::nan("");
+    EXPECT_THROW(remeshStreamlines(frames, fr.field, field::findSingularities(frames, fr.field), opt), InputError);
+}
+
+} // namespace
+} // namespace rosy::remesh
