@@ -67,26 +67,20 @@ public:
     /// and more than `seedWindow` from the line's seed (a loop about to close).
     bool near(const Vec3 &p, const Vec3 &t, double r, int line, double arc, double selfArc,
               double parallelCos, double seedWindow = 0) const {
-        const long long cx = coord(p.x()), cy = coord(p.y()), cz = coord(p.z());
-        for (long long dx = -1; dx <= 1; ++dx)
-            for (long long dy = -1; dy <= 1; ++dy)
-                for (long long dz = -1; dz <= 1; ++dz) {
-                    auto it = m_cells.find(pack(cx + dx, cy + dy, cz + dz));
-                    if (it == m_cells.end()) continue;
-                    for (int i : it->second) {
-                        const Sample &s = m_samples[i];
-                        if ((s.p - p).squaredNorm() > r * r) continue;
-                        if (std::abs(s.t.dot(t)) < parallelCos) continue;
-                        if (s.line == line && (std::abs(s.arc - arc) <= selfArc || std::abs(s.arc) <= seedWindow))
-                            continue;
-                        return true;
-                    }
-                }
-        return false;
+        return anyWithin(p, r, [&](const Sample &s) {
+            if (std::abs(s.t.dot(t)) < parallelCos) return false;
+            return s.line != line || (std::abs(s.arc - arc) > selfArc && std::abs(s.arc) > seedWindow);
+        });
     }
 
     /// Is any sample within r (≤ cell) of p?
     bool any(const Vec3 &p, double r) const {
+        return anyWithin(p, r, [](const Sample &) { return true; });
+    }
+
+private:
+    /// Does `accept` hold for a sample within r (≤ cell) of p? (The 27 cells around p.)
+    template <typename Accept> bool anyWithin(const Vec3 &p, double r, Accept &&accept) const {
         const long long cx = coord(p.x()), cy = coord(p.y()), cz = coord(p.z());
         for (long long dx = -1; dx <= 1; ++dx)
             for (long long dy = -1; dy <= 1; ++dy)
@@ -94,12 +88,11 @@ public:
                     auto it = m_cells.find(pack(cx + dx, cy + dy, cz + dz));
                     if (it == m_cells.end()) continue;
                     for (int i : it->second)
-                        if ((m_samples[i].p - p).squaredNorm() <= r * r) return true;
+                        if ((m_samples[i].p - p).squaredNorm() <= r * r && accept(m_samples[i])) return true;
                 }
         return false;
     }
 
-private:
     long long coord(double x) const { return (long long)std::floor(x / m_cell); }
     static uint64_t pack(long long x, long long y, long long z) {
         const uint64_t m = (1ull << 21) - 1;
@@ -536,7 +529,8 @@ RemeshResult NetworkBuilder::build(std::map<std::string, int> &repairs) const {
     auto angleAt = [&](int c, const Vec3 &d) {
         const int f = vFace[c];
         const Vec3 X = m_frames.faceAxisX(f), Y = faceNormal(f).cross(X);
-        return std::atan2(d.dot(Y), d.dot(X));
+        const double a = std::atan2(d.dot(Y), d.dot(X));
+        return std::isfinite(a) ? a : 0.0; // a degenerate face: any order, but a strict one
     };
     int loops = 0;
     for (int l = 0; l < int(m_lines.size()); ++l) {
