@@ -346,15 +346,25 @@ void runRemesh(const RemeshCliOptions &opt) {
         json.field("method", opt.method == "streamlines" ? "streamline-network" : "position-field");
         json.key("options").beginObject();
         json.field("symmetry", nSym).field("edge_length", edgeLength).field("edge", opt.edge);
-        json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts).field("adaptive_scale", ropt.scaleStrength);
-        json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg);
-        json.field("dislocations", ropt.dislocationReach > 0 ? opt.dislocations : std::string("keep"));
-        json.key("dislocation_reach");
-        if (std::isfinite(ropt.dislocationReach)) json.value(ropt.dislocationReach);
-        else json.value("unbounded");
-        json.key("dislocation_cone_penalty");
-        if (std::isfinite(ropt.dislocationConePenalty) && ropt.dislocationReach > 0) json.value(ropt.dislocationConePenalty);
-        else json.null();
+        if (opt.method == "streamlines") {
+            // The network's own options; the position field's do not apply.
+            const remesh::StreamlineNetworkOptions sopt;
+            json.field("separatrices", ropt.separatrices).field("feature_angle", ropt.featureAngleDeg);
+            json.field("stop_distance", sopt.stopDistance).field("seed_distance", sopt.seedDistance);
+        } else {
+            json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts);
+            json.field("adaptive_scale", ropt.scaleStrength);
+            json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg);
+            json.field("dislocations", ropt.dislocationReach > 0 ? opt.dislocations : std::string("keep"));
+            json.key("dislocation_reach");
+            if (std::isfinite(ropt.dislocationReach)) json.value(ropt.dislocationReach);
+            else json.value("unbounded");
+            json.key("dislocation_cone_penalty");
+            if (std::isfinite(ropt.dislocationConePenalty) && ropt.dislocationReach > 0)
+                json.value(ropt.dislocationConePenalty);
+            else
+                json.null();
+        }
         json.endObject();
         if (refinement) {
             const remesh::InputRefinement &ri = *refinement;

@@ -328,6 +328,9 @@ TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(slurp(dir / "torus.json"));
     EXPECT_EQ(j["method"], "streamline-network");
+    // Its own options, not the position field's.
+    EXPECT_EQ(j["options"]["stop_distance"], 0.5);
+    EXPECT_FALSE(j["options"].contains("dislocations"));
     EXPECT_GT(j["repairs"]["lines"].get<int>(), 10);
     EXPECT_GT(j["repairs"]["crossings"].get<int>(), 100);
     EXPECT_TRUE(j["timings_ms"].contains("streamlines"));
