@@ -363,7 +363,7 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
                     for (size_t k = 0; k < basis.size(); ++k) {
                         const Complex c = mDot(*basis[k], v);
                         parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
-                const Eigen::Index len = Eigen::Index(hi - lo);
+                            const Eigen::Index len = Eigen::Index(hi - lo);
                             v.segment(lo, len) -= c * basis[k]->segment(lo, len);
                             if (Av) Av->segment(lo, len) -= c * images[k]->segment(lo, len);
                         }, kUpdateGrain);
@@ -371,7 +371,7 @@ Eigen::VectorXcd lowestEigenvector(const TangentFrames &frames, int nSym, const 
                 const double after = std::sqrt(std::real(mDot(v, v)));
                 if (!(after > 1e-10 * before) || !(after > 0)) return false;
                 parallelForRange(0, n, [&](int64_t lo, int64_t hi) {
-                const Eigen::Index len = Eigen::Index(hi - lo);
+                    const Eigen::Index len = Eigen::Index(hi - lo);
                     v.segment(lo, len) /= after;
                     if (Av) Av->segment(lo, len) /= after;
                 }, kUpdateGrain);

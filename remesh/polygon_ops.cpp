@@ -2,8 +2,8 @@
 /// See polygon_ops.h.
 
 #include "remesh/polygon_ops.h"
-#include "core/parallel.h"
 
+#include "core/parallel.h"
 #include "field/mesh/mesh_stats.h"
 #include "field/mesh/union_find.h"
 #include "field/winding_number.h"

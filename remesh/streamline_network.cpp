@@ -8,6 +8,7 @@
 #include "field/singularities.h"
 #include "field/separatrices.h"
 #include "field/streamlines.h"
+#include "remesh/polygon_ops.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -16,7 +17,6 @@
 #include <deque>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
@@ -462,21 +462,20 @@ std::vector<Crossing> NetworkBuilder::crossings() const {
         }
     }
     // The slack may count one crossing in two faces (at their common edge): keep one.
-    std::vector<int> order(out.size());
-    std::iota(order.begin(), order.end(), 0);
-    auto key = [&](int i) {
+    // Each crossing keyed by its line pair (lower first) and its parameter on the first.
+    std::vector<std::tuple<int, int, double, int>> keys(out.size());
+    for (size_t i = 0; i < out.size(); ++i) {
         const Crossing &c = out[i];
-        return c.line[0] < c.line[1] || (c.line[0] == c.line[1] && c.param[0] < c.param[1])
-                   ? std::make_tuple(c.line[0], c.line[1], c.param[0])
-                   : std::make_tuple(c.line[1], c.line[0], c.param[1]);
-    };
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
+        const int s = c.line[0] < c.line[1] || (c.line[0] == c.line[1] && c.param[0] < c.param[1]) ? 0 : 1;
+        keys[i] = {c.line[s], c.line[1 - s], c.param[s], int(i)};
+    }
+    std::sort(keys.begin(), keys.end());
     std::vector<char> duplicate(out.size(), 0);
-    for (size_t k = 1; k < order.size(); ++k) {
-        const auto a = key(order[k - 1]), b = key(order[k]);
-        if (std::get<0>(a) == std::get<0>(b) && std::get<1>(a) == std::get<1>(b) &&
-            (out[order[k]].p - out[order[k - 1]].p).norm() < 1e-9 * m_L)
-            duplicate[std::max(order[k], order[k - 1])] = 1;
+    for (size_t k = 1; k < keys.size(); ++k) {
+        const auto &[a0, a1, ap, ai] = keys[k - 1];
+        const auto &[b0, b1, bp, bi] = keys[k];
+        if (a0 == b0 && a1 == b1 && (out[size_t(bi)].p - out[size_t(ai)].p).norm() < 1e-9 * m_L)
+            duplicate[size_t(std::max(ai, bi))] = 1;
     }
     std::vector<Crossing> kept;
     for (size_t i = 0; i < out.size(); ++i)
@@ -565,7 +564,7 @@ RemeshResult NetworkBuilder::build(std::map<std::string, int> &repairs) const {
     };
     // Two edges between the same two vertices (two separatrices of one singularity
     // that cross again, two lines crossing twice in a row) bound no face: keep the first.
-    auto edgeKey = [](int a, int b) { return (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b)); };
+    auto edgeKey = [](int a, int b) { return directedEdgeKey(std::min(a, b), std::max(a, b)); }; // undirected
     int doubled = 0;
     {
         std::unordered_set<uint64_t> seen;
