@@ -199,6 +199,38 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         markNear(positions[v], singHit);
     }
     q.irregularFraction = interior ? double(q.irregularVertices) / interior : 0;
+    {
+        // Two rings along the edges from each singularity's nearest output vertex: a
+        // breadth-first search from all of them at once, to depth 2.
+        std::vector<int> depth(static_cast<size_t>(nP), -1), frontier;
+        for (const Vec3 &s : sing) {
+            int best = -1;
+            double bestD = std::numeric_limits<double>::infinity();
+            for (int v = 0; v < nP; ++v) {
+                if (!usedVertex[size_t(v)]) continue;
+                const double d = (positions[size_t(v)] - s).squaredNorm();
+                if (d < bestD) bestD = d, best = v;
+            }
+            if (best >= 0 && depth[size_t(best)] < 0) {
+                depth[size_t(best)] = 0;
+                frontier.push_back(best);
+            }
+        }
+        for (int ring = 1; ring <= 2; ++ring) {
+            std::vector<int> next;
+            for (int v : frontier)
+                for (int w : nbrs[size_t(v)])
+                    if (depth[size_t(w)] < 0) {
+                        depth[size_t(w)] = ring;
+                        next.push_back(w);
+                    }
+            frontier.swap(next);
+        }
+        for (int v = 0; v < nP; ++v)
+            if (usedVertex[size_t(v)] && !onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != regularValence &&
+                depth[size_t(v)] >= 0)
+                q.irregularWithinTwoRings++;
+    }
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
     for (char h : singHit) q.singularitiesWithIrregularVertex += h;
     // Item 2's guarantee: an irregular vertex or an irregular face (a corner of it) near
@@ -453,6 +485,7 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.field("vertices", q.irregularVertices).field("fraction", q.irregularFraction);
     json.field("valence2", q.valence2Vertices);
     json.field("within_2L_of_singularity", q.irregularNearSingularity);
+    json.field("within_two_rings_of_singularity", q.irregularWithinTwoRings);
     json.field("distance_to_singularity_median_L", q.irregularDistanceMedianL);
     json.field("singularities", q.singularities);
     json.field("singularities_with_irregular_vertex", q.singularitiesWithIrregularVertex);

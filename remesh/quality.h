@@ -61,6 +61,11 @@ struct QualityReport {
     /// the median distance (in L) of all irregular vertices to their nearest one.
     int irregularNearSingularity = 0;
     double irregularDistanceMedianL = 0;
+    /// Irregular vertices within two rings of a singularity, the issue's own words:
+    /// at most two mesh edges from the output vertex nearest to a singularity of
+    /// index ±1/N (counted along edges, so a vertex near in space but a row of faces
+    /// too far is not).
+    int irregularWithinTwoRings = 0;
     /// Singularities of index ±1/N with an irregular vertex within 2 L.
     int singularities = 0, singularitiesWithIrregularVertex = 0;
     /// Singularities with an irregular vertex or a corner of a non-quad (non-triangle

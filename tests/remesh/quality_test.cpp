@@ -179,6 +179,38 @@ TEST(Quality, ASingularityIsMarkedByAnIrregularVertexOrAnIrregularFaceWithinTwoL
     EXPECT_EQ(turned.singularitiesMarked, 1);
 }
 
+TEST(Quality, TwoRingsAreCountedAlongEdgesFromTheNearestVertex) {
+    // The 4 x 4 grid of unit quads with the corner quad cut along (0,0)-(1,1), which
+    // gives the interior vertex (1,1) valence 5, the only irregular one.
+    std::vector<Vec3> pts;
+    for (int y = 0; y <= 4; ++y)
+        for (int x = 0; x <= 4; ++x) pts.emplace_back(x, y, 0);
+    auto id = [](int x, int y) { return y * 5 + x; };
+    std::vector<std::vector<int>> polys = {{id(0, 0), id(1, 0), id(1, 1)}, {id(0, 0), id(1, 1), id(0, 1)}};
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            if (x + y > 0) polys.push_back({id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)});
+    Fixture fx;
+    field::Singularity s;
+    s.indexNumerator = 1;
+    auto measure = [&](const Vec3 &at) {
+        fx.sing.singularities.assign(1, s);
+        fx.sing.singularities[0].position = at;
+        return measureQuality(pts, polys, fx.frames, fx.field, fx.sing, 1.1);
+    };
+    // Nearest vertex (2,2): two edges from (1,1), through (1,2) or (2,1).
+    const QualityReport two = measure(Vec3(2.1, 2.1, 0));
+    EXPECT_EQ(two.irregularVertices, 1);
+    EXPECT_EQ(two.irregularWithinTwoRings, 1);
+    // Nearest vertex (3,2): three edges from (1,1), though (1,1) is 2.13 from the point,
+    // within 2 L = 2.2 in space.
+    const QualityReport three = measure(Vec3(2.6, 2.4, 0));
+    EXPECT_EQ(three.irregularNearSingularity, 1);
+    EXPECT_EQ(three.irregularWithinTwoRings, 0);
+    // On the irregular vertex itself.
+    EXPECT_EQ(measure(Vec3(1.0, 1.05, 0)).irregularWithinTwoRings, 1);
+}
+
 TEST(Quality, FlippedFaceIsInconsistentAndFlipped) {
     Fixture fx;
     auto quads = cubeQuads();
