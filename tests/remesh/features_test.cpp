@@ -197,6 +197,9 @@ TEST(RemeshFeatures, HandKeepsItsTopologyWhereTheLatticeTangles) {
 // edge with one face lies on a rim (z = ±1 and on the input's 48-gon), and each
 // rim gets about 2π / L boundary edges. Without features the openings are capped.
 TEST(RemeshFeatures, CylinderBoundaryIsFollowed) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "the cylinder's boundary is remeshed under the sanitizers by RemeshCli.FeatureAngleKeepsAnOpenSurfaceOpen; the Release suite runs this one";
+#endif
     const Mesh tube = field::makeCylinder(1.0, 2.0, 48, 24);
     const Remeshed r = remeshWithFeatures(tube, 0.04, 50);
     const QualityReport &q = r.quality;

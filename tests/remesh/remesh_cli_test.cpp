@@ -197,6 +197,9 @@ TEST(RemeshCli, PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError) {
 // --anisotropic-scale reaches the remesher: 0 draws the lattice with L along both
 // directions, which on a torus (parallels of radii 1 ± r) is another mesh.
 TEST(RemeshCli, AnisotropicScaleFlagReachesTheRemesher) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "a flag's plumbing; the anisotropic scale runs in every sanitized remesh, and the Release suite runs this one";
+#endif
     const fs::path dir = workDir("aniso");
     std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
     const CliRun a = runRosyhatch(dir, "remesh torus.yaml -o a.obj --edge 4% --quiet", "a");
@@ -212,6 +215,9 @@ TEST(RemeshCli, AnisotropicScaleFlagReachesTheRemesher) {
 // leaves every vertex of valence 4, which `keep` does not; the report names the
 // mode and counts the moves.
 TEST(RemeshCli, DislocationsFlagReachesTheRemesher) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "a flag's plumbing; the moves and `remove` run under the sanitizers in Remesh.*Dislocations*, and the Release suite runs this one";
+#endif
     const fs::path dir = workDir("dislocations");
     std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
     const nlohmann::json ja = remeshReport(dir, "torus.yaml", "--edge 4%", "a");
@@ -232,6 +238,9 @@ TEST(RemeshCli, DislocationsFlagReachesTheRemesher) {
 // --dislocation-reach replaces the mode's reach: a short one moves fewer units
 // than `move`'s 20 spacings on the bumpy ellipsoid, and the report carries it.
 TEST(RemeshCli, DislocationReachReachesTheRemesher) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "a flag's plumbing; the moves run under the sanitizers in Remesh.*Dislocations*, and the Release suite runs this one";
+#endif
     const fs::path dir = workDir("reach");
     std::ofstream(dir / "e.yaml") << "mesh: {primitive: ellipsoid, subdivisions: 4, a: 1.0, b: 0.7, c: 0.5}\n"
                                       "field: {symmetry: 4}\n";

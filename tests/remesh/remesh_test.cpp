@@ -192,6 +192,9 @@ Mesh cappedCylinderWithFanCaps(int nAround, int nAlong) {
 }
 
 TEST(Remesh, LongInputEdgesAreBisectedSoFanCapsStayClosed) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "the input refinement runs under the sanitizers in RemeshCli.ACoarseCubeIsRefinedBeforeItsFieldAndRemeshesToAGrid; the Release suite runs this one";
+#endif
     const Mesh mesh = cappedCylinderWithFanCaps(96, 64);
     // Our own check of the input's shape: spokes (radius 1) against tube edges.
     ASSERT_EQ(mesh.nVertices(), 96 * 65 + 2);
@@ -219,6 +222,9 @@ TEST(Remesh, LongInputEdgesAreBisectedSoFanCapsStayClosed) {
 }
 
 TEST(Remesh, ThinTipsKeepAVertexNearTheirApex) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "thin parts run under the sanitizers in RemeshCli.PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError; the Release suite runs this one";
+#endif
     // Cigar-shaped ellipsoids: their tips (radius of curvature b²/a) are narrower than
     // L, where the lattice's own points fall anywhere and the faces spanning the tip cut
     // it off; the output must still reach each apex (±a, 0, 0), known from the shape.
@@ -248,6 +254,9 @@ TEST(Remesh, ThinTipsKeepAVertexNearTheirApex) {
 }
 
 TEST(Remesh, NarrowGroovesAreFollowedToTheirBottom) {
+#ifdef ROSY_SANITIZED
+    GTEST_SKIP() << "the distance repair runs in every sanitized remesh; the Release suite runs this one";
+#endif
     // A sphere with four parallel grooves of Gaussian profile (depth 0.58 L, width
     // 0.19 L: about one input edge) around an inclined axis, not a multiple of L apart:
     // where no lattice row falls into one, the faces bridge it. Every input vertex in a
