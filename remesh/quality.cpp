@@ -199,23 +199,25 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         markNear(positions[v], singHit);
     }
     q.irregularFraction = interior ? double(q.irregularVertices) / interior : 0;
+    // Each singularity's nearest output vertex (the first of equals; -1 when none).
+    std::vector<int> nearestVertex(sing.size(), -1);
+    for (size_t k = 0; k < sing.size(); ++k) {
+        double bestD = std::numeric_limits<double>::infinity();
+        for (int v = 0; v < nP; ++v) {
+            if (!usedVertex[size_t(v)]) continue;
+            const double d = (positions[size_t(v)] - sing[k]).norm();
+            if (d < bestD) bestD = d, nearestVertex[k] = v;
+        }
+    }
     {
         // Two rings along the edges from each singularity's nearest output vertex: a
         // breadth-first search from all of them at once, to depth 2.
         std::vector<int> depth(static_cast<size_t>(nP), -1), frontier;
-        for (const Vec3 &s : sing) {
-            int best = -1;
-            double bestD = std::numeric_limits<double>::infinity();
-            for (int v = 0; v < nP; ++v) {
-                if (!usedVertex[size_t(v)]) continue;
-                const double d = (positions[size_t(v)] - s).squaredNorm();
-                if (d < bestD) bestD = d, best = v;
+        for (int v : nearestVertex)
+            if (v >= 0 && depth[size_t(v)] < 0) {
+                depth[size_t(v)] = 0;
+                frontier.push_back(v);
             }
-            if (best >= 0 && depth[size_t(best)] < 0) {
-                depth[size_t(best)] = 0;
-                frontier.push_back(best);
-            }
-        }
         for (int ring = 1; ring <= 2; ++ring) {
             std::vector<int> next;
             for (int v : frontier)
@@ -271,18 +273,16 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             for (int v : polygons[f]) facesAt[size_t(v)].push_back(int(f));
         std::vector<char> faceTaken(polygons.size(), 0), singularVertex(static_cast<size_t>(nP), 0);
         std::vector<double> devRings;
-        for (const Vec3 &s : sing) {
-            int best = -1, bestIrregular = -1;
-            double bestD = std::numeric_limits<double>::infinity(), bestIrregularD = bestD;
+        for (size_t k = 0; k < sing.size(); ++k) {
+            int bestIrregular = -1;
+            double bestIrregularD = std::numeric_limits<double>::infinity();
             for (int v = 0; v < nP; ++v) {
-                if (!usedVertex[size_t(v)]) continue;
-                const double d = (positions[size_t(v)] - s).norm();
-                if (d < bestD) bestD = d, best = v;
-                if (!onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != regularValence && d <= 2 * edgeLength &&
-                    d < bestIrregularD)
-                    bestIrregularD = d, bestIrregular = v;
+                if (!usedVertex[size_t(v)] || onBoundary[size_t(v)] || int(nbrs[size_t(v)].size()) == regularValence)
+                    continue;
+                const double d = (positions[size_t(v)] - sing[k]).norm();
+                if (d <= 2 * edgeLength && d < bestIrregularD) bestIrregularD = d, bestIrregular = v;
             }
-            const int sv = bestIrregular >= 0 ? bestIrregular : best;
+            const int sv = bestIrregular >= 0 ? bestIrregular : nearestVertex[k];
             if (sv < 0) continue;
             singularVertex[size_t(sv)] = 1;
             std::vector<int> ring = nbrs[size_t(sv)];
