@@ -144,18 +144,30 @@ TEST(Quality, SingularRingsMeasureConesAgainstTheirOwnAngle) {
     EXPECT_EQ(measureQuality(cubeCorners(), cubeQuads(), fx.frames, fx.field, fx.sing, 2.0).cornersInSingularRings, 24);
 }
 
-TEST(Quality, ASingularityIsMarkedByAnIrregularVertexOrAnIrregularFaceWithinTwoL) {
-    // A 4 x 4 grid of unit quads (open: its boundary vertices have no valence to judge),
-    // the corner quad [0,1]² cut into two triangles along the diagonal between its two
-    // boundary vertices (1,0)-(0,1), so that every interior vertex keeps valence 4.
+/// A 4 x 4 grid of unit quads in z = 0 (open: its boundary vertices have no valence to
+/// judge), vertex (x, y) numbered 5 y + x, its corner quad [0,1]² cut into two triangles:
+/// along (1,0)-(0,1), between two boundary vertices, so that every interior vertex keeps
+/// valence 4, or with `throughInterior` along (0,0)-(1,1), which gives the interior vertex
+/// (1,1) valence 5.
+struct CutCornerGrid {
     std::vector<Vec3> pts;
-    for (int y = 0; y <= 4; ++y)
-        for (int x = 0; x <= 4; ++x) pts.emplace_back(x, y, 0);
-    auto id = [](int x, int y) { return y * 5 + x; };
-    std::vector<std::vector<int>> polys = {{id(0, 0), id(1, 0), id(0, 1)}, {id(1, 0), id(1, 1), id(0, 1)}};
-    for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x)
-            if (x + y > 0) polys.push_back({id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)});
+    std::vector<std::vector<int>> polys;
+    explicit CutCornerGrid(bool throughInterior) {
+        for (int y = 0; y <= 4; ++y)
+            for (int x = 0; x <= 4; ++x) pts.emplace_back(x, y, 0);
+        const int c00 = 0, c10 = 1, c01 = 5, c11 = 6;
+        if (throughInterior)
+            polys = {{c00, c10, c11}, {c00, c11, c01}};
+        else
+            polys = {{c00, c10, c01}, {c10, c11, c01}};
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x)
+                if (x + y > 0) polys.push_back({y * 5 + x, y * 5 + x + 1, (y + 1) * 5 + x + 1, (y + 1) * 5 + x});
+    }
+};
+
+TEST(Quality, ASingularityIsMarkedByAnIrregularVertexOrAnIrregularFaceWithinTwoL) {
+    const CutCornerGrid grid(false);
     Fixture fx;
     field::Singularity s;
     s.indexNumerator = 1;
@@ -164,39 +176,30 @@ TEST(Quality, ASingularityIsMarkedByAnIrregularVertexOrAnIrregularFaceWithinTwoL
     s.indexNumerator = -1;
     s.position = Vec3(3.0, 3.0, 0); // only regular vertices and quads within 1
     fx.sing.singularities.push_back(s);
-    const QualityReport q = measureQuality(pts, polys, fx.frames, fx.field, fx.sing, 0.5);
+    const QualityReport q = measureQuality(grid.pts, grid.polys, fx.frames, fx.field, fx.sing, 0.5);
     EXPECT_EQ(q.irregularVertices, 0);
     EXPECT_EQ(q.singularities, 2);
     EXPECT_EQ(q.singularitiesWithIrregularVertex, 0);
     EXPECT_EQ(q.singularitiesMarked, 1);
     // With the diagonal the other way, (0,0)-(1,1), vertex (1,1) gets valence 5: an
     // irregular vertex within 2 L of the first singularity, which both counts see.
-    polys[0] = {id(0, 0), id(1, 0), id(1, 1)};
-    polys[1] = {id(0, 0), id(1, 1), id(0, 1)};
-    const QualityReport turned = measureQuality(pts, polys, fx.frames, fx.field, fx.sing, 0.5);
+    const CutCornerGrid other(true);
+    const QualityReport turned = measureQuality(other.pts, other.polys, fx.frames, fx.field, fx.sing, 0.5);
     EXPECT_EQ(turned.irregularVertices, 1);
     EXPECT_EQ(turned.singularitiesWithIrregularVertex, 1);
     EXPECT_EQ(turned.singularitiesMarked, 1);
 }
 
 TEST(Quality, TwoRingsAreCountedAlongEdgesFromTheNearestVertex) {
-    // The 4 x 4 grid of unit quads with the corner quad cut along (0,0)-(1,1), which
-    // gives the interior vertex (1,1) valence 5, the only irregular one.
-    std::vector<Vec3> pts;
-    for (int y = 0; y <= 4; ++y)
-        for (int x = 0; x <= 4; ++x) pts.emplace_back(x, y, 0);
-    auto id = [](int x, int y) { return y * 5 + x; };
-    std::vector<std::vector<int>> polys = {{id(0, 0), id(1, 0), id(1, 1)}, {id(0, 0), id(1, 1), id(0, 1)}};
-    for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x)
-            if (x + y > 0) polys.push_back({id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)});
+    // The corner cut through (1,1): the interior vertex (1,1) is the only irregular one.
+    const CutCornerGrid grid(true);
     Fixture fx;
     field::Singularity s;
     s.indexNumerator = 1;
     auto measure = [&](const Vec3 &at) {
         fx.sing.singularities.assign(1, s);
         fx.sing.singularities[0].position = at;
-        return measureQuality(pts, polys, fx.frames, fx.field, fx.sing, 1.1);
+        return measureQuality(grid.pts, grid.polys, fx.frames, fx.field, fx.sing, 1.1);
     };
     // Nearest vertex (2,2): two edges from (1,1), through (1,2) or (2,1).
     const QualityReport two = measure(Vec3(2.1, 2.1, 0));
