@@ -4,6 +4,7 @@
 #include "remesh/polygon_ops.h"
 
 #include "core/parallel.h"
+#include "field/mesh/closest_point.h"
 #include "field/mesh/mesh_stats.h"
 #include "field/mesh/union_find.h"
 #include "field/winding_number.h"
@@ -280,6 +281,67 @@ std::vector<std::vector<int>> facingTriangulation(const std::vector<int> &loop, 
 }
 
 } // namespace
+
+namespace {
+
+/// The smallest corner angle of a polygon (radians; 0 at a corner with a zero side).
+double smallestAngleOf(const std::vector<int> &P, const std::vector<Vec3> &positions) {
+    double smallest = 3.14159265358979323846;
+    const size_t m = P.size();
+    for (size_t k = 0; k < m; ++k) {
+        const Vec3 u = positions[size_t(P[(k + m - 1) % m])] - positions[size_t(P[k])],
+                   w = positions[size_t(P[(k + 1) % m])] - positions[size_t(P[k])];
+        const double l = u.norm() * w.norm();
+        smallest = std::min(smallest, l > 0 ? std::acos(std::clamp(u.dot(w) / l, -1.0, 1.0)) : 0.0);
+    }
+    return smallest;
+}
+
+} // namespace
+
+int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vector<std::vector<int>> &polygons,
+                   std::vector<Vec3> &positions, const field::Mesh &input, const AabbTree &inputTree, double L,
+                   double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,
+                   std::vector<int> &around) {
+    constexpr double kReach = 0.75, kMinCorner = 30.0 * 3.14159265358979323846 / 180.0;
+    std::vector<int> corners(poly.begin(), poly.end());
+    std::sort(corners.begin(), corners.end(), [&](int a, int b) {
+        const double da = (positions[size_t(a)] - x).squaredNorm(), db = (positions[size_t(b)] - x).squaredNorm();
+        return da != db ? da < db : a < b;
+    });
+    for (int v : corners) {
+        if (fixed && fixed(size_t(v))) continue;
+        if ((positions[size_t(v)] - x).norm() > kReach * L) break;
+        around.clear();
+        bool free = true;
+        for (size_t g = 0; g < polygons.size(); ++g)
+            if (std::find(polygons[g].begin(), polygons[g].end(), v) != polygons[g].end()) {
+                around.push_back(int(g));
+                free = free && usable(int(g));
+            }
+        if (!free) continue;
+        const Vec3 was = positions[size_t(v)], under = inputTree.closest(was).point;
+        positions[size_t(v)] = x;
+        bool good = true;
+        double uncovered = std::numeric_limits<double>::infinity(); // the input under the old place, from the faces
+        for (int g : around) {
+            const std::vector<int> &P = polygons[size_t(g)];
+            good = facesInput(P, positions, input, inputTree) && smallestAngleOf(P, positions) >= kMinCorner &&
+                   farthestFromInput(P, positions, inputTree, L) <= limit;
+            if (!good) break;
+            for (size_t k = 1; k + 1 < P.size(); ++k)
+                uncovered = std::min(uncovered, (field::closestPointOnTriangle(under, positions[size_t(P[0])],
+                                                                              positions[size_t(P[k])],
+                                                                              positions[size_t(P[k + 1])]) -
+                                                 under)
+                                                    .norm());
+        }
+        if (good && uncovered <= kFarDistance * L) return v;
+        positions[size_t(v)] = was;
+    }
+    around.clear();
+    return -1;
+}
 
 std::vector<std::vector<int>> fillHole(const std::vector<int> &hole, std::vector<Vec3> &positions,
                                        const field::Mesh &input, const AabbTree &inputTree,
@@ -910,6 +972,290 @@ int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector
     for (size_t f = 0; f < polygons.size(); ++f) gone[f] = stray[size_t(pieceOfFace[f])];
     removeMarked(polygons, gone);
     return removed;
+}
+
+int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                    const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed) {
+    constexpr double kDeg = 3.14159265358979323846 / 180.0;
+    constexpr double kMinQuadCorner = 35.0 * kDeg, kMinTriangleCorner = 25.0 * kDeg, kMaxTriangleCorner = 130.0 * kDeg;
+    constexpr int kMaxLoop = 16;
+    constexpr double kMaxShift = 0.1; // L: how far from the new faces the old surface may lie
+    const int nV = int(positions.size());
+    std::unordered_map<uint64_t, int> faceOfEdge; // directed edge -> face
+    std::vector<std::vector<int>> facesAt(static_cast<size_t>(nV));
+    std::vector<std::set<int>> nb(static_cast<size_t>(nV));
+    std::vector<char> alive(polygons.size(), 1);
+    auto link = [&](int f, bool add) {
+        const std::vector<int> &P = polygons[size_t(f)];
+        for (size_t k = 0; k < P.size(); ++k) {
+            const int a = P[k], b = P[(k + 1) % P.size()];
+            if (add) {
+                faceOfEdge[directedEdgeKey(a, b)] = f;
+                nb[size_t(a)].insert(b);
+                nb[size_t(b)].insert(a);
+                facesAt[size_t(a)].push_back(f);
+            } else {
+                faceOfEdge.erase(directedEdgeKey(a, b));
+                if (!faceOfEdge.count(directedEdgeKey(b, a))) nb[size_t(a)].erase(b), nb[size_t(b)].erase(a);
+                auto &list = facesAt[size_t(a)];
+                list.erase(std::find(list.begin(), list.end(), f));
+            }
+        }
+    };
+    for (int f = 0; f < int(polygons.size()); ++f) link(f, true);
+    // Boundary vertices (an edge with one face): their valence is not judged, and the
+    // re-cut never touches their edges (a star's centre is interior).
+    std::vector<char> onBoundary(static_cast<size_t>(nV), 0);
+    for (const auto &[key, f] : faceOfEdge) {
+        const int a = int(key >> 32), b = int(key & 0xffffffffu);
+        if (!faceOfEdge.count(directedEdgeKey(b, a))) onBoundary[size_t(a)] = onBoundary[size_t(b)] = 1;
+    }
+    auto cost = [](int valence) { return (valence != 4 ? 1.0 : 0.0) + 0.01 * (valence - 4) * (valence - 4); };
+    auto faceCost = [](size_t sides) { return sides == 4 ? 0.0 : 1.0; };
+    // The worst deviation of a face's corners from the angle its kind wants, or a
+    // negative number when a corner is reflex or outside its bounds about `normal`.
+    int centre = -1;
+    Vec3 centrePoint = Vec3::Zero();
+    auto at = [&](int v) -> const Vec3 & { return v == centre ? centrePoint : positions[size_t(v)]; };
+    auto worstCorner = [&](const std::vector<int> &P, const Vec3 &normal) {
+        const size_t m = P.size();
+        const double lo = m == 3 ? kMinTriangleCorner : kMinQuadCorner;
+        const double hi = m == 3 ? kMaxTriangleCorner : 3.14159265358979323846 - kMinQuadCorner;
+        const double want = m == 3 ? 60.0 * kDeg : 90.0 * kDeg;
+        double worst = 0;
+        for (size_t k = 0; k < m; ++k) {
+            const Vec3 &a = at(P[(k + m - 1) % m]), &b = at(P[k]), &c = at(P[(k + 1) % m]);
+            const Vec3 e0 = a - b, e1 = c - b;
+            const double l = e0.norm() * e1.norm();
+            if (!(l > 0) || e1.cross(e0).dot(normal) <= 0) return -1.0;
+            const double angle = std::acos(std::clamp(e0.dot(e1) / l, -1.0, 1.0));
+            if (angle < lo || angle > hi) return -1.0;
+            worst = std::max(worst, std::abs(angle - want));
+        }
+        return worst;
+    };
+    int respoked = 0;
+    for (int pass = 0; pass < 3; ++pass) {
+        int now = 0;
+        for (int c = 0; c < nV; ++c) {
+            if (onBoundary[size_t(c)] || facesAt[size_t(c)].empty() || (fixed && fixed(size_t(c)))) continue;
+            const std::vector<int> star = facesAt[size_t(c)];
+            bool irregular = nb[size_t(c)].size() != 4;
+            for (int f : star) {
+                irregular = irregular || polygons[size_t(f)].size() != 4;
+                for (int x : polygons[size_t(f)]) irregular = irregular || (!onBoundary[size_t(x)] && nb[size_t(x)].size() != 4);
+            }
+            if (!irregular) continue;
+            // One irregular element (a vertex or a face) carries an index the cut keeps
+            // inside its loop, so a gain needs at least two.
+            int elements = nb[size_t(c)].size() != 4;
+            {
+                std::set<int> corners;
+                for (int f : star) {
+                    elements += polygons[size_t(f)].size() != 4;
+                    for (int x : polygons[size_t(f)])
+                        if (x != c && !onBoundary[size_t(x)] && nb[size_t(x)].size() != 4) corners.insert(x);
+                }
+                elements += int(corners.size());
+            }
+            if (elements < 2) continue;
+            // The star's boundary loop: each face (c, a1, .., am) gives the path a1 .. am;
+            // the face across (am, c) starts its path at am.
+            std::unordered_map<int, int> pathFrom; // a1 -> face
+            bool simple = true;
+            for (int f : star) {
+                const std::vector<int> &P = polygons[size_t(f)];
+                if (std::count(P.begin(), P.end(), c) != 1) simple = false;
+                const size_t k = size_t(std::find(P.begin(), P.end(), c) - P.begin());
+                if (!pathFrom.emplace(P[(k + 1) % P.size()], f).second) simple = false;
+            }
+            if (!simple) continue;
+            std::vector<int> loop;
+            size_t used = 0;
+            int cursor = polygons[size_t(star.front())][(size_t(std::find(polygons[size_t(star.front())].begin(),
+                                                                      polygons[size_t(star.front())].end(), c) -
+                                                            polygons[size_t(star.front())].begin()) +
+                                                     1) %
+                                                    polygons[size_t(star.front())].size()];
+            const int first = cursor;
+            while (used <= star.size()) {
+                const auto it = pathFrom.find(cursor);
+                if (it == pathFrom.end()) break;
+                const std::vector<int> &P = polygons[size_t(it->second)];
+                const size_t k = size_t(std::find(P.begin(), P.end(), c) - P.begin());
+                for (size_t i = 1; i + 1 < P.size(); ++i) loop.push_back(P[(k + i) % P.size()]);
+                cursor = P[(k + P.size() - 1) % P.size()];
+                ++used;
+                if (cursor == first) break;
+            }
+            if (cursor != first || used != star.size() || int(loop.size()) > kMaxLoop || loop.size() < 6) continue;
+            {
+                std::vector<int> sorted = loop;
+                std::sort(sorted.begin(), sorted.end());
+                if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end() ||
+                    std::binary_search(sorted.begin(), sorted.end(), c))
+                    continue;
+            }
+            const int n = int(loop.size());
+            Vec3 normal = vectorArea(loop, positions);
+            if (!(normal.norm() > 0)) continue;
+            normal.normalize();
+            // The vertex moves to the input point nearest its loop's centroid (the
+            // smoothing after evens the rest).
+            Vec3 mean = Vec3::Zero();
+            for (int x : loop) mean += positions[size_t(x)];
+            centre = c;
+            centrePoint = inputTree.closest(mean / double(n)).point;
+            double before = cost(int(nb[size_t(c)].size()));
+            for (int x : loop)
+                if (!onBoundary[size_t(x)]) before += cost(int(nb[size_t(x)].size()));
+            for (int f : star) before += faceCost(polygons[size_t(f)].size());
+
+            // Per loop position: whether its corner is a spoke now, its valence, and
+            // whether it is judged (not on the boundary).
+            std::array<int, kMaxLoop> valence{}, wasSpoke{}, judged{};
+            for (int i = 0; i < n; ++i) {
+                const int x = loop[size_t(i)];
+                valence[size_t(i)] = int(nb[size_t(x)].size());
+                wasSpoke[size_t(i)] = int(nb[size_t(c)].count(x));
+                judged[size_t(i)] = !onBoundary[size_t(x)];
+            }
+            double bestGain = 0.5, bestWorst = 0;
+            std::vector<std::vector<int>> bestFaces;
+            std::array<int, 8> gaps{};
+            int nGaps = 0;
+            // The faces of the cut given by the gaps from spoke s0 and, for the k-th
+            // hexagon piece, bit k of `choice` (0: diagonal L(0)–L(3), 1: L(1)–L(4)).
+            auto facesOf = [&](int s0, unsigned choice) {
+                std::vector<std::vector<int>> faces;
+                int s = s0;
+                unsigned h = 0;
+                for (int g = 0; g < nGaps; ++g) {
+                    auto L = [&](int i) { return loop[size_t((s + i) % n)]; };
+                    if (gaps[size_t(g)] == 1) faces.push_back({c, L(0), L(1)});
+                    else if (gaps[size_t(g)] == 2) faces.push_back({c, L(0), L(1), L(2)});
+                    else if (!((choice >> h++) & 1)) faces.push_back({L(0), L(1), L(2), L(3)}), faces.push_back({c, L(0), L(3), L(4)});
+                    else faces.push_back({L(1), L(2), L(3), L(4)}), faces.push_back({c, L(0), L(1), L(4)});
+                    s += gaps[size_t(g)];
+                }
+                return faces;
+            };
+            auto judge = [&](int s0) {
+                if (nGaps < 3 || nGaps > 6) return;
+                int hexagons = 0, triangles = 0;
+                for (int g = 0; g < nGaps; ++g) hexagons += gaps[size_t(g)] == 4, triangles += gaps[size_t(g)] == 1;
+                for (unsigned choice = 0; choice < (1u << hexagons); ++choice) {
+                    std::array<int, kMaxLoop> added{};
+                    bool ok = true;
+                    int s = s0;
+                    unsigned h = 0;
+                    for (int g = 0; g < nGaps && ok; ++g) {
+                        ++added[size_t(s % n)];
+                        if (gaps[size_t(g)] == 4) {
+                            const int i = (choice >> h++) & 1 ? s + 1 : s;
+                            if (nb[size_t(loop[size_t(i % n)])].count(loop[size_t((i + 3) % n)])) ok = false; // already an edge
+                            ++added[size_t(i % n)], ++added[size_t((i + 3) % n)];
+                        }
+                        s += gaps[size_t(g)];
+                    }
+                    if (!ok) continue;
+                    double after = cost(nGaps) + triangles;
+                    for (int i = 0; i < n && ok; ++i) {
+                        if (!judged[size_t(i)]) continue;
+                        const int v = valence[size_t(i)] - wasSpoke[size_t(i)] + added[size_t(i)];
+                        if (v < 3) ok = false;
+                        after += cost(v);
+                    }
+                    if (!ok) continue;
+                    const double gain = before - after;
+                    if (gain <= 0.5 || gain < bestGain - 1e-9) continue;
+                    std::vector<std::vector<int>> faces = facesOf(s0, choice);
+                    double worst = 0;
+                    for (const auto &F : faces) {
+                        const double w = worstCorner(F, normal);
+                        if (w < 0) ok = false;
+                        worst = std::max(worst, w);
+                    }
+                    if (!ok) continue;
+                    // Where the vertex was must stay on the surface the new faces make
+                    // (a tip it sat on is not cut off).
+                    double away = std::numeric_limits<double>::infinity();
+                    for (const auto &F : faces)
+                        for (size_t k = 1; k + 1 < F.size(); ++k)
+                            away = std::min(away, (field::closestPointOnTriangle(positions[size_t(c)], at(F[0]), at(F[k]),
+                                                                                at(F[k + 1])) -
+                                                   positions[size_t(c)])
+                                                      .norm());
+                    if (away > kMaxShift * L) continue;
+                    // Nor may the surface move: every sample of the old faces (the
+                    // report's sampling) lies within kMaxShift L of the new ones, and no
+                    // new face is farther from the input than the old ones or
+                    // kFarDistance L.
+                    double oldFarthest = 0, newFarthest = 0;
+                    for (int f : star)
+                        oldFarthest = std::max(oldFarthest, farthestFromInput(polygons[size_t(f)], positions, inputTree, L));
+                    for (const auto &F : faces) {
+                        std::vector<Vec3> corners;
+                        for (int v : F) corners.push_back(at(v));
+                        std::vector<int> idx(F.size());
+                        for (size_t k = 0; k < F.size(); ++k) idx[k] = int(k);
+                        newFarthest = std::max(newFarthest, farthestFromInput(idx, corners, inputTree, L));
+                    }
+                    if (newFarthest > std::max(oldFarthest, kFarDistance * L)) continue;
+                    double moved = 0;
+                    for (int f : star) {
+                        const std::vector<int> &P = polygons[size_t(f)];
+                        for (size_t k = 1; k + 1 < P.size(); ++k)
+                            forEachSample(positions[size_t(P[0])], positions[size_t(P[k])], positions[size_t(P[k + 1])], L,
+                                          [&](const Vec3 &q) {
+                                              double d = std::numeric_limits<double>::infinity();
+                                              for (const auto &F : faces)
+                                                  for (size_t j = 1; j + 1 < F.size(); ++j)
+                                                      d = std::min(d, (field::closestPointOnTriangle(q, at(F[0]), at(F[j]), at(F[j + 1])) - q).norm());
+                                              moved = std::max(moved, d);
+                                          });
+                    }
+                    if (moved > kMaxShift * L) continue;
+                    if (gain > bestGain + 1e-9 || bestFaces.empty() || worst < bestWorst)
+                        bestGain = gain, bestWorst = worst, bestFaces = std::move(faces);
+                }
+            };
+            // Spoke sets by their first spoke s0 (the smallest loop index) and the gaps
+            // (1, 2 or 4 loop steps) to the next spokes, the last one wrapping to s0.
+            auto walk = [&](auto &&self, int s0, int pos, int triangles) -> void {
+                if (pos == s0 + n) return judge(s0);
+                if (nGaps == 6) return;
+                for (int g : {2, 1, 4}) {
+                    if (g == 1 && triangles >= 1) continue;
+                    const int next = pos + g;
+                    if (next > s0 + n || (next < s0 + n && next >= n)) continue;
+                    gaps[size_t(nGaps++)] = g;
+                    self(self, s0, next, triangles + (g == 1));
+                    --nGaps;
+                }
+            };
+            for (int s0 = 0; s0 < std::min(n, 4); ++s0) walk(walk, s0, s0, 0);
+            centre = -1;
+            if (bestFaces.empty()) continue;
+            positions[size_t(c)] = centrePoint;
+            for (int f : star) {
+                link(f, false);
+                alive[size_t(f)] = 0;
+            }
+            for (auto &F : bestFaces) {
+                polygons.push_back(std::move(F));
+                alive.push_back(1);
+                link(int(polygons.size()) - 1, true);
+            }
+            ++now;
+        }
+        respoked += now;
+        if (now == 0) break;
+    }
+    std::vector<char> gone(polygons.size(), 0);
+    for (size_t f = 0; f < polygons.size(); ++f) gone[f] = !alive[f];
+    removeMarked(polygons, gone);
+    return respoked;
 }
 
 } // namespace rosy::remesh

@@ -22,6 +22,10 @@ namespace rosy::remesh {
 
 using field::Vec3;
 
+/// Points farther than this many L from the other surface are repaired (the
+/// remesher's distance repair); a clean-up step leaves no face farther than this.
+constexpr double kFarDistance = 0.4;
+
 /// One 64-bit key per directed edge a -> b (maps from an edge of the output to its face).
 inline uint64_t directedEdgeKey(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
 
@@ -81,6 +85,21 @@ double farthestFromInput(const std::vector<int> &poly, const std::vector<Vec3> &
 std::vector<std::vector<int>> cutFarQuad(const std::vector<int> &quad, const std::vector<Vec3> &positions,
                                          const field::Mesh &input, const AabbTree &inputTree, double L,
                                          double minHeight, double limit);
+
+/// A point `x` farther than kFarDistance L from the output (the remesher's distance
+/// repair) taken by a corner of `poly` instead of a new vertex: its corners within
+/// 0.75 L of x, nearest first, that are not `fixed` and whose faces `usable` allows,
+/// each put at x and kept there if every face around it then faces the input
+/// (facesInput), has no corner below 30°, has no sample farther from the input than
+/// `limit` (farthestFromInput), and leaves the input point nearest the corner's old
+/// place within kFarDistance L of them (a bump it covered stays covered). Returns the corner moved and its faces in
+/// `around`, or −1 with `positions` unchanged. A fan from x would add a vertex and
+/// turn the polygon into triangles, each corner of it one edge more: at a cone's
+/// triangle, three irregular vertices where there was none.
+int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vector<std::vector<int>> &polygons,
+                   std::vector<Vec3> &positions, const field::Mesh &input, const AabbTree &inputTree, double L,
+                   double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,
+                   std::vector<int> &around);
 
 /// A hole (a traced face with more sides than a face may have) filled with triangles.
 /// The fan from its centroid put on the input (`inputTree.closest`, appended to
@@ -159,6 +178,28 @@ int collapseFoldedDiagonals(std::vector<std::vector<int>> &polygons, std::vector
 int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
                          const field::Mesh &input, const AabbTree &inputTree, double L,
                          const std::function<bool(size_t)> &fixed);
+
+/// A vertex whose star is irregular — its valence is not 4, one of its faces is not
+/// a quad or one of their interior corners has a valence other than 4 — gets its
+/// star cut again around it: the star's boundary loop (the
+/// corners of its faces, each once) is kept, the vertex keeps its position, and its
+/// spokes go to another set of loop corners, the pieces between consecutive spokes
+/// becoming quads (two spokes two loop steps apart), at most one triangle (one step)
+/// or two quads (four steps, cut by a diagonal between loop corners). Of all such
+/// cuts whose faces are convex with corners between 35° and 145° (triangles 25° and
+/// 130°) about the loop's normal, whose new diagonals are no edges yet and that leave
+/// no interior vertex below valence 3, the one that lowers Σ (valence − 4)² over the
+/// vertex and the loop's interior corners the most (each irregular vertex counting
+/// 1 + 0.01 (valence − 4)², each face that is not a quad 1), by more than 0.5; on a
+/// tie the one whose worst corner is nearest 90°. A cone the position field drew as a
+/// valence-7 vertex between two triangles (index −3/4 + 2 · 1/4) becomes a valence-5
+/// vertex among quads; the sum of the indices inside the loop cannot change, so a
+/// dislocation stays one. The loop is the same, so the mesh stays closed, manifold
+/// and oriented with its Euler characteristic. `fixed` vertices (feature curves) are
+/// not re-cut. Vertices in index order, up to three passes (N = 4 only); returns how
+/// many stars were re-cut.
+int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
+                    const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed);
 
 /// Two edges of the remesher's graph, (a, b) and (c, d) with a < b and c < d, that
 /// cross on the surface as removeCrossingEdges() tests it.

@@ -16,6 +16,7 @@
 #include "remesh/square_lattice.h"
 #include "remesh/polygon_ops.h"
 
+#include <cstdlib>
 #include <Eigen/Sparse>
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
 #include <OpenMesh/Core/System/omstream.hh>
@@ -1514,8 +1515,6 @@ void snapToProtrusions(const std::vector<std::vector<int>> &polygons, std::vecto
     repairs["protrusion_vertices_snapped"] = snapped;
 }
 
-/// Points farther than this many L from the other surface get a vertex.
-constexpr double kFarDistance = 0.4;
 /// Rounds of the distance repair.
 constexpr int kFarRounds = 4;
 /// A fan triangle whose apex is closer than this many L to its base edge is not made.
@@ -1597,7 +1596,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                   const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed,
                   std::map<std::string, int> &repairs) {
     const double reach = kFarDistance * L;
-    int edgesSplit = 0, fanned = 0, quadsCut = 0, left = 0;
+    int edgesSplit = 0, fanned = 0, quadsCut = 0, left = 0, cornersMoved = 0;
     const auto key = directedEdgeKey;
     for (int round = 0; round < kFarRounds; ++round) {
         int made = 0;
@@ -1737,6 +1736,21 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
             std::vector<std::vector<int>> fan;
             bool ok = false;
             const double limit = std::max(reach, 0.9 * farthestFromInput(poly, positions, inputTree, L));
+            // First a corner moved onto the point (no new vertex, no new face).
+            {
+                int moved = -1;
+                std::vector<int> around;
+                for (const Vec3 &x : target[size_t(f)]) {
+                    moved = moveCornerOnto(poly, x, polygons, positions, input, inputTree, L, limit, fixed,
+                                           [&](int g) { return !touched[size_t(g)]; }, around);
+                    if (moved >= 0) break;
+                }
+                if (moved >= 0) {
+                    for (int g : around) touched[size_t(g)] = 1;
+                    ++cornersMoved, ++made;
+                    continue;
+                }
+            }
             for (const Vec3 &x : target[size_t(f)]) {
                 positions.push_back(x);
                 fan.clear();
@@ -1772,6 +1786,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
     }
     repairs["far_edges_split"] = edgesSplit;
     repairs["far_points_fanned"] = fanned;
+    repairs["far_points_corner_moved"] = cornersMoved;
     repairs["far_points_left"] = left;
     repairs["far_quads_cut"] = quadsCut;
 }
@@ -2313,6 +2328,10 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
             if (v >= size_t(nC) || !cKind[v]) return;
             x = cKind[v] == 2 ? F.p[cCorner[v]] : ontoSegments(x, cSegments[v]);
         };
+    // Stars re-cut around their centre where that leaves fewer irregular vertices
+    // (a cone drawn as a vertex with its spokes one corner off, "Stars re-cut").
+    if (result.nSym == 4)
+        result.repairs["stars_respoked"] = respokeVertices(polygons, positions, tree, options.edgeLength, onFeature);
     relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs, constrain);
     snapToProtrusions(polygons, positions, mesh, options.edgeLength,
                       onFeature, result.repairs);

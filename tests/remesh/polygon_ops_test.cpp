@@ -486,5 +486,107 @@ TEST(CutFarQuad, AQuadAboveThePlaneOrThinIsNotCutAndATieTakesTheFirstDiagonal) {
     EXPECT_TRUE(cutFarQuad({0, 1, 2}, on, plane, tree, 1.0, 0.1, 0.4).empty());
 }
 
+// A 5 × 5 grid of unit quads whose middle vertex c = (2, 2) has its spokes turned by
+// 45°: to the four diagonal corners of its ring instead of the four beside it, so the
+// ring alternates valence 3 (beside) and 5 (diagonal). Re-spoking puts the grid back:
+// every interior valence 4, the four unit squares, c in the middle of its ring. Held
+// (`fixed`), or with its ring already regular, nothing changes.
+TEST(RespokeVertices, ASpokeSetTurnedByOneStepIsTurnedBack) {
+    const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {6, -1, 0}, {6, 6, 0}, {-1, 6, 0}},
+                                                          {{0, 1, 2}, {0, 2, 3}}, "plane");
+    const AabbTree tree(plane);
+    auto id = [](int i, int j) { return j * 6 + i; };
+    std::vector<Vec3> x;
+    for (int j = 0; j < 6; ++j)
+        for (int i = 0; i < 6; ++i) x.push_back({double(i), double(j), 0});
+    const int c = id(2, 2);
+    Polygons grid;
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i)
+            if (!(i >= 1 && i <= 2 && j >= 1 && j <= 2)) grid.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    Polygons turned = grid;
+    turned.push_back({c, id(3, 3), id(2, 3), id(1, 3)});
+    turned.push_back({c, id(1, 3), id(1, 2), id(1, 1)});
+    turned.push_back({c, id(1, 1), id(2, 1), id(3, 1)});
+    turned.push_back({c, id(3, 1), id(3, 2), id(3, 3)});
+    x[size_t(c)] = {2.3, 1.8, 0}; // off-centre, as the extraction leaves it
+
+    Polygons held = turned;
+    std::vector<Vec3> heldX = x;
+    EXPECT_EQ(respokeVertices(held, heldX, tree, 1.0, [&](size_t v) { return int(v) == c; }), 0);
+    EXPECT_EQ(held, turned);
+    EXPECT_EQ(heldX, x);
+
+    Polygons mended = turned;
+    EXPECT_EQ(respokeVertices(mended, x, tree, 1.0, [](size_t) { return false; }), 1);
+    EXPECT_EQ(mended.size(), turned.size());
+    std::map<int, std::set<int>> nb;
+    for (const auto &f : mended) {
+        EXPECT_EQ(f.size(), 4u);
+        for (size_t k = 0; k < f.size(); ++k) nb[f[k]].insert(f[(k + 1) % f.size()]), nb[f[(k + 1) % f.size()]].insert(f[k]);
+    }
+    for (int j = 1; j < 5; ++j)
+        for (int i = 1; i < 5; ++i) EXPECT_EQ(nb[id(i, j)].size(), 4u) << i << "," << j;
+    EXPECT_EQ(nb[c], (std::set<int>{id(1, 2), id(3, 2), id(2, 1), id(2, 3)}));
+    EXPECT_NEAR((x[size_t(c)] - Vec3(2, 2, 0)).norm(), 0.0, 1e-12); // its ring's centroid, on the plane
+    std::set<std::pair<int, int>> directed; // the grid is open: each directed edge in one face
+    for (const auto &f : mended)
+        for (size_t k = 0; k < f.size(); ++k) EXPECT_TRUE(directed.insert({f[k], f[(k + 1) % f.size()]}).second);
+    EXPECT_EQ(shapeOf(mended).chi(), shapeOf(turned).chi());
+
+    Polygons again = mended;
+    EXPECT_EQ(respokeVertices(again, x, tree, 1.0, [](size_t) { return false; }), 0);
+    EXPECT_EQ(again, mended);
+}
+
+// A 4 × 4 grid of unit quads on z = 0 over an input with a bump: a pyramid of height
+// 0.2 whose apex x = (2.4, 2.2, 0.2) lies over the quad (2, 2)–(3, 3). The corner
+// nearest x, (2, 2) (0.49 L), is moved onto it; held, the next nearest within 0.75 L,
+// (3, 2) (0.66 L), is; with the quad not usable (it holds all four), or a limit no face
+// can meet, nothing moves.
+TEST(MoveCornerOnto, TheNearestFreeCornerTakesAFarPointTheGridKeepsItsFaces) {
+    const Vec3 apex(2.4, 2.2, 0.2);
+    const field::Mesh bump = field::Mesh::fromTriangles(
+        {{-1, -1, 0}, {5, -1, 0}, {5, 5, 0}, {-1, 5, 0}, apex}, {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}, "bump");
+    const AabbTree tree(bump);
+    auto id = [](int i, int j) { return j * 5 + i; };
+    std::vector<Vec3> start;
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) start.push_back({double(i), double(j), 0});
+    Polygons grid;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) grid.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    const std::vector<int> &quad = grid[size_t(2 * 4 + 2)];
+    auto any = [](int) { return true; };
+    std::vector<int> around;
+
+    std::vector<Vec3> x = start;
+    EXPECT_EQ(moveCornerOnto(quad, apex, grid, x, bump, tree, 1.0, 0.4, {}, any, around), id(2, 2));
+    EXPECT_EQ(x[size_t(id(2, 2))], apex);
+    EXPECT_EQ(around.size(), 4u);
+    for (int v = 0; v < 25; ++v) {
+        if (v != id(2, 2)) {
+            EXPECT_EQ(x[size_t(v)], start[size_t(v)]);
+        }
+    }
+    for (int f : around) EXPECT_TRUE(facesInput(grid[size_t(f)], x, bump, tree));
+
+    x = start;
+    EXPECT_EQ(moveCornerOnto(quad, apex, grid, x, bump, tree, 1.0, 0.4, [&](size_t v) { return int(v) == id(2, 2); },
+                             any, around),
+              id(3, 2));
+    EXPECT_EQ(x[size_t(id(3, 2))], apex);
+
+    x = start;
+    EXPECT_EQ(moveCornerOnto(quad, apex, grid, x, bump, tree, 1.0, 0.4, {},
+                             [&](int g) { return g != 2 * 4 + 2; }, around),
+              -1);
+    EXPECT_EQ(x, start);
+    EXPECT_TRUE(around.empty());
+
+    EXPECT_EQ(moveCornerOnto(quad, apex, grid, x, bump, tree, 1.0, 0.0, {}, any, around), -1); // no face that near
+    EXPECT_EQ(x, start);
+}
+
 } // namespace
 } // namespace rosy::remesh
