@@ -1012,11 +1012,12 @@ int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &
     }
     auto cost = [](int valence) { return (valence != 4 ? 1.0 : 0.0) + 0.01 * (valence - 4) * (valence - 4); };
     auto faceCost = [](size_t sides) { return sides == 4 ? 0.0 : 1.0; };
-    // The worst deviation of a face's corners from the angle its kind wants, or a
-    // negative number when a corner is reflex or outside its bounds about `normal`.
+    // Corners as a candidate cut has them: the star's centre at its new place.
     int centre = -1;
     Vec3 centrePoint = Vec3::Zero();
     auto at = [&](int v) -> const Vec3 & { return v == centre ? centrePoint : positions[size_t(v)]; };
+    // The worst deviation of a face's corners from the angle its kind wants, or a
+    // negative number when a corner is reflex or outside its bounds about `normal`.
     auto worstCorner = [&](const std::vector<int> &P, const Vec3 &normal) {
         const size_t m = P.size();
         const double lo = m == 3 ? kMinTriangleCorner : kMinQuadCorner;
@@ -1040,14 +1041,9 @@ int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &
         for (int c = 0; c < nV; ++c) {
             if (onBoundary[size_t(c)] || facesAt[size_t(c)].empty() || (fixed && fixed(size_t(c)))) continue;
             const std::vector<int> star = facesAt[size_t(c)];
-            bool irregular = nb[size_t(c)].size() != 4;
-            for (int f : star) {
-                irregular = irregular || polygons[size_t(f)].size() != 4;
-                for (int x : polygons[size_t(f)]) irregular = irregular || (!onBoundary[size_t(x)] && nb[size_t(x)].size() != 4);
-            }
-            if (!irregular) continue;
-            // One irregular element (a vertex or a face) carries an index the cut keeps
-            // inside its loop, so a gain needs at least two.
+            // The irregular elements of the star: the centre, its faces that are not
+            // quads, their interior corners of valence ≠ 4. One carries an index the cut
+            // keeps inside its loop, so a gain needs at least two.
             int elements = nb[size_t(c)].size() != 4;
             {
                 std::set<int> corners;
@@ -1072,11 +1068,9 @@ int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &
             if (!simple) continue;
             std::vector<int> loop;
             size_t used = 0;
-            int cursor = polygons[size_t(star.front())][(size_t(std::find(polygons[size_t(star.front())].begin(),
-                                                                      polygons[size_t(star.front())].end(), c) -
-                                                            polygons[size_t(star.front())].begin()) +
-                                                     1) %
-                                                    polygons[size_t(star.front())].size()];
+            int cursor = -1;
+            for (const auto &[a1, f] : pathFrom)
+                if (f == star.front()) cursor = a1;
             const int first = cursor;
             while (used <= star.size()) {
                 const auto it = pathFrom.find(cursor);
@@ -1120,7 +1114,7 @@ int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &
                 wasSpoke[size_t(i)] = int(nb[size_t(c)].count(x));
                 judged[size_t(i)] = !onBoundary[size_t(x)];
             }
-            double bestGain = 0.5, bestWorst = 0;
+            double bestGain = 0.5, bestWorst = 0, oldFarthest = -1; // the last when first needed
             std::vector<std::vector<int>> bestFaces;
             std::array<int, 8> gaps{};
             int nGaps = 0;
@@ -1177,23 +1171,14 @@ int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &
                         worst = std::max(worst, w);
                     }
                     if (!ok) continue;
-                    // Where the vertex was must stay on the surface the new faces make
-                    // (a tip it sat on is not cut off).
-                    double away = std::numeric_limits<double>::infinity();
-                    for (const auto &F : faces)
-                        for (size_t k = 1; k + 1 < F.size(); ++k)
-                            away = std::min(away, (field::closestPointOnTriangle(positions[size_t(c)], at(F[0]), at(F[k]),
-                                                                                at(F[k + 1])) -
-                                                   positions[size_t(c)])
-                                                      .norm());
-                    if (away > kMaxShift * L) continue;
-                    // Nor may the surface move: every sample of the old faces (the
-                    // report's sampling) lies within kMaxShift L of the new ones, and no
-                    // new face is farther from the input than the old ones or
-                    // kFarDistance L.
-                    double oldFarthest = 0, newFarthest = 0;
-                    for (int f : star)
-                        oldFarthest = std::max(oldFarthest, farthestFromInput(polygons[size_t(f)], positions, inputTree, L));
+                    // The surface may not move: no new face farther from the input than
+                    // the old ones or kFarDistance L, and every sample of the old faces
+                    // (the report's sampling; the centre's old place among them, so a tip
+                    // it sat on is not cut off) within kMaxShift L of the new ones.
+                    if (oldFarthest < 0)
+                        for (int f : star)
+                            oldFarthest = std::max(oldFarthest, farthestFromInput(polygons[size_t(f)], positions, inputTree, L));
+                    double newFarthest = 0;
                     for (const auto &F : faces) {
                         std::vector<Vec3> corners;
                         for (int v : F) corners.push_back(at(v));

@@ -92,10 +92,10 @@ std::vector<std::vector<int>> cutFarQuad(const std::vector<int> &quad, const std
 /// each put at x and kept there if every face around it then faces the input
 /// (facesInput), has no corner below 30°, has no sample farther from the input than
 /// `limit` (farthestFromInput), and leaves the input point nearest the corner's old
-/// place within kFarDistance L of them (a bump it covered stays covered). Returns the corner moved and its faces in
-/// `around`, or −1 with `positions` unchanged. A fan from x would add a vertex and
-/// turn the polygon into triangles, each corner of it one edge more: at a cone's
-/// triangle, three irregular vertices where there was none.
+/// place within kFarDistance L of them (a bump it covered stays covered). Returns the
+/// corner moved and its faces in `around`, or −1 with `positions` unchanged. A fan
+/// from x would add a vertex and turn the polygon into triangles, each corner of it
+/// one edge more: at a cone's triangle, three irregular vertices where there was none.
 int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vector<std::vector<int>> &polygons,
                    std::vector<Vec3> &positions, const field::Mesh &input, const AabbTree &inputTree, double L,
                    double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,
@@ -179,25 +179,27 @@ int refillFlippedPatches(std::vector<std::vector<int>> &polygons, std::vector<Ve
                          const field::Mesh &input, const AabbTree &inputTree, double L,
                          const std::function<bool(size_t)> &fixed);
 
-/// A vertex whose star is irregular — its valence is not 4, one of its faces is not
-/// a quad or one of their interior corners has a valence other than 4 — gets its
-/// star cut again around it: the star's boundary loop (the
-/// corners of its faces, each once) is kept, the vertex keeps its position, and its
-/// spokes go to another set of loop corners, the pieces between consecutive spokes
-/// becoming quads (two spokes two loop steps apart), at most one triangle (one step)
-/// or two quads (four steps, cut by a diagonal between loop corners). Of all such
-/// cuts whose faces are convex with corners between 35° and 145° (triangles 25° and
-/// 130°) about the loop's normal, whose new diagonals are no edges yet and that leave
-/// no interior vertex below valence 3, the one that lowers Σ (valence − 4)² over the
-/// vertex and the loop's interior corners the most (each irregular vertex counting
-/// 1 + 0.01 (valence − 4)², each face that is not a quad 1), by more than 0.5; on a
-/// tie the one whose worst corner is nearest 90°. A cone the position field drew as a
-/// valence-7 vertex between two triangles (index −3/4 + 2 · 1/4) becomes a valence-5
-/// vertex among quads; the sum of the indices inside the loop cannot change, so a
-/// dislocation stays one. The loop is the same, so the mesh stays closed, manifold
-/// and oriented with its Euler characteristic. `fixed` vertices (feature curves) are
-/// not re-cut. Vertices in index order, up to three passes (N = 4 only); returns how
-/// many stars were re-cut.
+/// A vertex whose star is irregular — it, one of its faces or one of their interior
+/// corners: a valence other than 4, a face that is not a quad — gets its star cut again
+/// around it. The star's boundary loop (the corners of its faces, each once) is kept;
+/// the vertex's spokes go to another set of loop corners, the pieces between consecutive
+/// spokes becoming quads (two loop steps), at most one triangle (one step) or two quads
+/// (four steps, cut by a diagonal between loop corners). Of all such cuts whose faces
+/// are convex with corners between 35° and 145° (triangles 25° and 130°) about the
+/// loop's normal, whose diagonals are no edges yet and that leave no interior vertex
+/// below valence 3, the one that lowers the count of irregular vertices and non-quad
+/// faces the most (each irregular vertex counting 1 + 0.01 (valence − 4)², each face
+/// that is not a quad 1), by more than 0.5, is taken; on a tie the one whose worst
+/// corner is nearest its ideal angle. The vertex moves to the input point nearest its
+/// loop's centroid. A cut is refused where a face would be farther from the input than
+/// the old ones and kFarDistance L, or a sample of the old faces farther than L/10 from
+/// the new ones (the surface stays where it was). What it mends, for one: a vertex
+/// whose spokes go to the wrong corners of its ring (neighbours of valence 3 and 5 in
+/// turn, RespokeVertices.ASpokeSetTurnedByOneStepIsTurnedBack). The indices inside
+/// the loop add up as before, so a dislocation stays one and a cone a cone; the loop
+/// is the same, so the mesh stays closed, manifold and oriented with its Euler
+/// characteristic. `fixed` vertices (feature curves) are not re-cut. Vertices in index
+/// order, up to three passes (N = 4 only); returns how many stars were re-cut.
 int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
                     const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed);
 

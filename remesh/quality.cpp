@@ -177,6 +177,10 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         return best;
     };
     const int regularValence = field.nSym == 6 ? 6 : 4;
+    // An interior vertex the mesh uses whose valence is not the regular one.
+    auto irregular = [&](int v) {
+        return usedVertex[size_t(v)] && !onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != regularValence;
+    };
     // hit[s] = 1 for every singularity s within 2 L of p.
     auto markNear = [&](const Vec3 &p, std::vector<char> &hit) {
         for (size_t s = 0; s < sing.size(); ++s)
@@ -229,9 +233,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             frontier.swap(next);
         }
         for (int v = 0; v < nP; ++v)
-            if (usedVertex[size_t(v)] && !onBoundary[size_t(v)] && int(nbrs[size_t(v)].size()) != regularValence &&
-                depth[size_t(v)] >= 0)
-                q.irregularWithinTwoRings++;
+            if (irregular(v) && depth[size_t(v)] >= 0) q.irregularWithinTwoRings++;
     }
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
     for (char h : singHit) q.singularitiesWithIrregularVertex += h;
@@ -277,8 +279,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             int bestIrregular = -1;
             double bestIrregularD = std::numeric_limits<double>::infinity();
             for (int v = 0; v < nP; ++v) {
-                if (!usedVertex[size_t(v)] || onBoundary[size_t(v)] || int(nbrs[size_t(v)].size()) == regularValence)
-                    continue;
+                if (!irregular(v)) continue;
                 const double d = (positions[size_t(v)] - sing[k]).norm();
                 if (d <= 2 * edgeLength && d < bestIrregularD) bestIrregularD = d, bestIrregular = v;
             }

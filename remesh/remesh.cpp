@@ -16,7 +16,6 @@
 #include "remesh/square_lattice.h"
 #include "remesh/polygon_ops.h"
 
-#include <cstdlib>
 #include <Eigen/Sparse>
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
 #include <OpenMesh/Core/System/omstream.hh>
