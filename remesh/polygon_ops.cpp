@@ -286,7 +286,7 @@ namespace {
 
 /// The smallest corner angle of a polygon (radians; 0 at a corner with a zero side).
 double smallestAngleOf(const std::vector<int> &P, const std::vector<Vec3> &positions) {
-    double smallest = 3.14159265358979323846;
+    double smallest = std::numbers::pi;
     const size_t m = P.size();
     for (size_t k = 0; k < m; ++k) {
         const Vec3 u = positions[size_t(P[(k + m - 1) % m])] - positions[size_t(P[k])],
@@ -303,7 +303,7 @@ int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vecto
                    std::vector<Vec3> &positions, const field::Mesh &input, const AabbTree &inputTree, double L,
                    double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,
                    std::vector<int> &around) {
-    constexpr double kReach = 0.75, kMinCorner = 30.0 * 3.14159265358979323846 / 180.0;
+    constexpr double kReach = 0.75, kMinCorner = 30.0 * std::numbers::pi / 180.0;
     std::vector<int> corners(poly.begin(), poly.end());
     std::sort(corners.begin(), corners.end(), [&](int a, int b) {
         const double da = (positions[size_t(a)] - x).squaredNorm(), db = (positions[size_t(b)] - x).squaredNorm();
@@ -976,8 +976,6 @@ int removeStrayPieces(std::vector<std::vector<int>> &polygons, const std::vector
 
 int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions,
                     const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed) {
-    constexpr double kDeg = 3.14159265358979323846 / 180.0;
-    constexpr double kMinQuadCorner = 35.0 * kDeg, kMinTriangleCorner = 25.0 * kDeg, kMaxTriangleCorner = 130.0 * kDeg;
     constexpr int kMaxLoop = 16;
     constexpr double kMaxShift = 0.1; // L: how far from the new faces the old surface may lie
     const int nV = int(positions.size());
@@ -1010,31 +1008,13 @@ int respokeVertices(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &
         const int a = int(key >> 32), b = int(key & 0xffffffffu);
         if (!faceOfEdge.count(directedEdgeKey(b, a))) onBoundary[size_t(a)] = onBoundary[size_t(b)] = 1;
     }
-    auto cost = [](int valence) { return (valence != 4 ? 1.0 : 0.0) + 0.01 * (valence - 4) * (valence - 4); };
+    const auto cost = valenceCost;
     auto faceCost = [](size_t sides) { return sides == 4 ? 0.0 : 1.0; };
     // Corners as a candidate cut has them: the star's centre at its new place.
     int centre = -1;
     Vec3 centrePoint = Vec3::Zero();
     auto at = [&](int v) -> const Vec3 & { return v == centre ? centrePoint : positions[size_t(v)]; };
-    // The worst deviation of a face's corners from the angle its kind wants, or a
-    // negative number when a corner is reflex or outside its bounds about `normal`.
-    auto worstCorner = [&](const std::vector<int> &P, const Vec3 &normal) {
-        const size_t m = P.size();
-        const double lo = m == 3 ? kMinTriangleCorner : kMinQuadCorner;
-        const double hi = m == 3 ? kMaxTriangleCorner : 3.14159265358979323846 - kMinQuadCorner;
-        const double want = m == 3 ? 60.0 * kDeg : 90.0 * kDeg;
-        double worst = 0;
-        for (size_t k = 0; k < m; ++k) {
-            const Vec3 &a = at(P[(k + m - 1) % m]), &b = at(P[k]), &c = at(P[(k + 1) % m]);
-            const Vec3 e0 = a - b, e1 = c - b;
-            const double l = e0.norm() * e1.norm();
-            if (!(l > 0) || e1.cross(e0).dot(normal) <= 0) return -1.0;
-            const double angle = std::acos(std::clamp(e0.dot(e1) / l, -1.0, 1.0));
-            if (angle < lo || angle > hi) return -1.0;
-            worst = std::max(worst, std::abs(angle - want));
-        }
-        return worst;
-    };
+    auto worstCorner = [&](const std::vector<int> &P, const Vec3 &normal) { return worstCornerDeviation(P, at, normal); };
     int respoked = 0;
     for (int pass = 0; pass < 3; ++pass) {
         int now = 0;

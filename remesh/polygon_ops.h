@@ -14,6 +14,7 @@
 #include <functional>
 
 #include <map>
+#include <numbers>
 #include <set>
 #include <string>
 #include <vector>
@@ -25,6 +26,37 @@ using field::Vec3;
 /// Points farther than this many L from the other surface are repaired (the
 /// remesher's distance repair); a clean-up step leaves no face farther than this.
 constexpr double kFarDistance = 0.4;
+
+/// The re-cuts' cost of a vertex (cancelDislocationPairs, respokeVertices): 1 if it is
+/// irregular, then how far its valence is from 4 (a valence 6 is worse than a 5).
+inline double valenceCost(int valence) { return (valence != 4 ? 1.0 : 0.0) + 0.01 * (valence - 4) * (valence - 4); }
+
+/// Smallest corner a re-cut quad may have (and 180° less it the largest); a triangle's bounds.
+constexpr double kMinQuadCorner = 35.0 * std::numbers::pi / 180.0;
+constexpr double kMinTriangleCorner = 25.0 * std::numbers::pi / 180.0;
+constexpr double kMaxTriangleCorner = 130.0 * std::numbers::pi / 180.0;
+
+/// The worst deviation (radians) of polygon P's corners from the angle its kind wants
+/// (a triangle's 60°, else 90°), its corners at `at(v)`; negative when a corner turns
+/// the wrong way about `normal` or lies outside its kind's bounds (kMinQuadCorner ..
+/// 180° − kMinQuadCorner; triangles kMinTriangleCorner .. kMaxTriangleCorner).
+template <typename At> double worstCornerDeviation(const std::vector<int> &P, const At &at, const Vec3 &normal) {
+    const size_t m = P.size();
+    const double lo = m == 3 ? kMinTriangleCorner : kMinQuadCorner;
+    const double hi = m == 3 ? kMaxTriangleCorner : std::numbers::pi - kMinQuadCorner;
+    const double want = (m == 3 ? 60.0 : 90.0) * std::numbers::pi / 180.0;
+    double worst = 0;
+    for (size_t k = 0; k < m; ++k) {
+        const Vec3 &a = at(P[(k + m - 1) % m]), &b = at(P[k]), &c = at(P[(k + 1) % m]);
+        const Vec3 e0 = a - b, e1 = c - b;
+        const double l = e0.norm() * e1.norm();
+        if (!(l > 0) || e1.cross(e0).dot(normal) <= 0) return -1.0;
+        const double angle = std::acos(std::clamp(e0.dot(e1) / l, -1.0, 1.0));
+        if (angle < lo || angle > hi) return -1.0;
+        worst = std::max(worst, std::abs(angle - want));
+    }
+    return worst;
+}
 
 /// One 64-bit key per directed edge a -> b (maps from an edge of the output to its face).
 inline uint64_t directedEdgeKey(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }

@@ -1206,12 +1206,11 @@ void quadrangulations(const std::vector<int> &poly, std::vector<std::vector<std:
 /// of an even number of corners, no vertex inside) is cut into quads again, in
 /// the way that lowers Σ (valence − 4)² over its corners the most, counting each
 /// triangle removed as 1 and keeping every new corner convex and between
-/// kMinCorner and 180° − kMinCorner about the union's normal. Greedy in face
+/// kMinQuadCorner and 180° − kMinQuadCorner about the union's normal. Greedy in face
 /// order (the same result for any thread count); the faces replaced cover the
 /// same polygon, so the mesh stays closed, manifold and oriented. N = 4 only.
 void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::vector<Vec3> &positions,
                             std::map<std::string, int> &repairs) {
-    constexpr double kMinCorner = 35.0 * std::numbers::pi / 180.0;
     constexpr int kMaxQuads = 3;
     const int nV = int(positions.size());
     const auto key = directedEdgeKey;
@@ -1233,19 +1232,9 @@ void cancelDislocationPairs(std::vector<std::vector<int>> &polygons, const std::
         }
     };
     for (int f = 0; f < int(polygons.size()); ++f) link(f, true);
-    // Irregular vertices first, then how far from 4 (a valence-6 is worse than a 5).
-    auto cost = [](int valence) { return (valence != 4 ? 1.0 : 0.0) + 0.01 * (valence - 4) * (valence - 4); };
-    auto goodQuad = [&](const std::vector<int> &P, const Vec3 &nrm) {
-        for (size_t k = 0; k < 4; ++k) {
-            const Vec3 &a = positions[P[(k + 3) % 4]], &b = positions[P[k]], &c = positions[P[(k + 1) % 4]];
-            const Vec3 e0 = a - b, e1 = c - b;
-            const double l = e0.norm() * e1.norm();
-            if (!(l > 0) || e1.cross(e0).dot(nrm) <= 0) return false;
-            const double ang = std::acos(std::clamp(e0.dot(e1) / l, -1.0, 1.0));
-            if (ang < kMinCorner || ang > std::numbers::pi - kMinCorner) return false;
-        }
-        return true;
-    };
+    const auto cost = valenceCost;
+    auto position = [&](int v) -> const Vec3 & { return positions[size_t(v)]; };
+    auto goodQuad = [&](const std::vector<int> &P, const Vec3 &nrm) { return worstCornerDeviation(P, position, nrm) >= 0; };
     // The boundary of a set of faces as one loop, or empty if it is not one simple
     // loop through all their corners.
     auto unionLoop = [&](const std::vector<int> &faces) {
