@@ -299,6 +299,56 @@ double smallestAngleOf(const std::vector<int> &P, const std::vector<Vec3> &posit
 
 } // namespace
 
+JoinedFan fanAcrossSide(int f, const std::vector<Vec3> &targets, const std::vector<std::vector<int>> &polygons,
+                        std::vector<Vec3> &positions, const std::function<int(int, int)> &across,
+                        const std::function<bool(int)> &usable, const field::Mesh &input,
+                        const AabbTree &inputTree, double L, double minHeight, double limit) {
+    const std::vector<int> &poly = polygons[size_t(f)];
+    const size_t n = poly.size();
+    const int apex = int(positions.size());
+    JoinedFan best;
+    double bestFar = std::numeric_limits<double>::infinity();
+    Vec3 bestApex = Vec3::Zero();
+    for (size_t k = 0; k < n; ++k) {
+        const int a = poly[k], b = poly[(k + 1) % n];
+        const int g = across(b, a);
+        if (g < 0 || g == f || size_t(g) >= polygons.size() || !usable(g)) continue;
+        const std::vector<int> &G = polygons[size_t(g)];
+        const size_t m = G.size();
+        size_t kg = m;
+        for (size_t i = 0; i < m; ++i)
+            if (G[i] == b && G[(i + 1) % m] == a) kg = i;
+        if (kg == m) continue;
+        // f from b round to a, then g after a round to before b.
+        std::vector<int> loop;
+        for (size_t i = 1; i <= n; ++i) loop.push_back(poly[(k + i) % n]);
+        for (size_t i = 2; i < m; ++i) loop.push_back(G[(kg + i) % m]);
+        std::vector<int> sorted = loop;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+        const double lim = std::max({limit, kFarDistance * L, 0.9 * farthestFromInput(G, positions, inputTree, L)});
+        const size_t ln = loop.size();
+        for (const Vec3 &x : targets) {
+            positions.push_back(x);
+            std::vector<std::vector<int>> fan;
+            bool good = true;
+            double far = 0;
+            for (size_t i = 0; good && i < ln; ++i) {
+                const Vec3 &p0 = positions[size_t(loop[i])], &p1 = positions[size_t(loop[(i + 1) % ln])];
+                const double h = (p1 - p0).cross(x - p0).norm() / std::max((p1 - p0).norm(), 1e-300);
+                fan.push_back({apex, loop[i], loop[(i + 1) % ln]});
+                const double d = farthestFromInput(fan.back(), positions, inputTree, L);
+                far = std::max(far, d);
+                good = h >= minHeight && facesInput(fan.back(), positions, input, inputTree) && d <= lim;
+            }
+            positions.pop_back();
+            if (good && far < bestFar) bestFar = far, best.neighbour = g, best.faces = std::move(fan), bestApex = x;
+        }
+    }
+    if (best.neighbour >= 0) positions.push_back(bestApex);
+    return best;
+}
+
 int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vector<std::vector<int>> &polygons,
                    std::vector<Vec3> &positions, const field::Mesh &input, const AabbTree &inputTree, double L,
                    double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,

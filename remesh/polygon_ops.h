@@ -133,6 +133,29 @@ int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vecto
                    double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,
                    std::vector<int> &around);
 
+/// A far point no fan of its polygon alone takes — one fan triangle would turn over
+/// (the point lies beyond one of its sides) or stay as far as the polygon was (the far
+/// region straddles a side) — fanned from the polygon joined with its neighbour across
+/// one side. For each side k of polygons[f] (poly[k] → poly[k+1]) whose reverse
+/// `across` finds in a polygon g ≠ f (−1: none, or a side that must stay) that `usable` allows, the two loops without their
+/// shared side make one (it must pass no vertex twice), and each point of `targets` in
+/// turn is tried as the apex of a fan over that loop: every triangle no thinner than
+/// `minHeight`, facing the input (facesInput) and with no sample farther from the input
+/// than the larger of `limit` and max(kFarDistance L, 0.9 × g's own farthest sample).
+/// Of all sides and targets the fan whose farthest sample is nearest wins (the first on
+/// a tie). On success the apex is appended to `positions` and the fan returned (its
+/// first triangle for f, its second for g, the rest new), else `positions` is unchanged
+/// and `neighbour` is −1. The fan covers the two polygons, so the mesh stays closed,
+/// manifold and oriented.
+struct JoinedFan {
+    int neighbour = -1;
+    std::vector<std::vector<int>> faces;
+};
+JoinedFan fanAcrossSide(int f, const std::vector<Vec3> &targets, const std::vector<std::vector<int>> &polygons,
+                        std::vector<Vec3> &positions, const std::function<int(int, int)> &across,
+                        const std::function<bool(int)> &usable, const field::Mesh &input,
+                        const AabbTree &inputTree, double L, double minHeight, double limit);
+
 /// A hole (a traced face with more sides than a face may have) filled with triangles.
 /// The fan from its centroid put on the input (`inputTree.closest`, appended to
 /// `positions`) is kept when every triangle of it faces the input (facesInput), as

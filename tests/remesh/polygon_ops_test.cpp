@@ -588,5 +588,76 @@ TEST(MoveCornerOnto, TheNearestFreeCornerTakesAFarPointTheGridKeepsItsFaces) {
     EXPECT_EQ(x, start);
 }
 
+TEST(FanAcrossSide, APointBeyondASideIsFannedWithTheNeighbourThere) {
+    // A 4 × 4 grid of unit quads on the plane z = 0 (the input). The point x lies in the
+    // quad right of quad f, 0.2 from their shared side: f's own fan from x turns its
+    // triangle on that side over, the fan of f and its right neighbour joined does not.
+    const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {5, -1, 0}, {5, 5, 0}, {-1, 5, 0}},
+                                                         {{0, 1, 2}, {0, 2, 3}}, "plane");
+    const AabbTree tree(plane);
+    auto id = [](int i, int j) { return j * 5 + i; };
+    std::vector<Vec3> start;
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) start.push_back({double(i), double(j), 0});
+    Polygons grid;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) grid.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    std::map<std::pair<int, int>, int> owner;
+    for (size_t g = 0; g < grid.size(); ++g)
+        for (size_t k = 0; k < 4; ++k) owner[{grid[g][k], grid[g][(k + 1) % 4]}] = int(g);
+    auto across = [&](int a, int b) {
+        const auto it = owner.find({a, b});
+        return it == owner.end() ? -1 : it->second;
+    };
+    auto any = [](int) { return true; };
+    const int f = 1 * 4 + 1, right = 1 * 4 + 2; // the quads (1..2, 1..2) and (2..3, 1..2)
+    const Vec3 x(2.2, 1.5, 0);
+    {
+        std::vector<Vec3> p = start;
+        p.push_back(x);
+        const std::vector<int> beside = {int(p.size()) - 1, id(2, 1), id(2, 2)}; // f's fan triangle on the shared side
+        EXPECT_FALSE(facesInput(beside, p, plane, tree));
+    }
+
+    std::vector<Vec3> p = start;
+    const JoinedFan fan = fanAcrossSide(f, {x}, grid, p, across, any, plane, tree, 1.0, 0.1, 0.4);
+    ASSERT_EQ(fan.neighbour, right);
+    ASSERT_EQ(p.size(), start.size() + 1);
+    EXPECT_EQ(p.back(), x);
+    const int apex = int(start.size());
+    // Six triangles round the apex over the 2 × 1 rectangle's six corners, each facing
+    // the input, together its area, and the rectangle's boundary run counter-clockwise.
+    ASSERT_EQ(fan.faces.size(), 6u);
+    double area = 0;
+    std::set<std::pair<int, int>> outer;
+    for (const auto &t : fan.faces) {
+        ASSERT_EQ(t.size(), 3u);
+        EXPECT_EQ(t[0], apex);
+        EXPECT_TRUE(facesInput(t, p, plane, tree));
+        area += 0.5 * (p[size_t(t[1])] - p[size_t(t[0])]).cross(p[size_t(t[2])] - p[size_t(t[0])]).z();
+        outer.insert({t[1], t[2]});
+    }
+    EXPECT_NEAR(area, 2.0, 1e-12);
+    const std::set<std::pair<int, int>> rectangle = {{id(1, 1), id(2, 1)}, {id(2, 1), id(3, 1)}, {id(3, 1), id(3, 2)},
+                                                     {id(3, 2), id(2, 2)}, {id(2, 2), id(1, 2)}, {id(1, 2), id(1, 1)}};
+    EXPECT_EQ(outer, rectangle);
+
+    // The right neighbour not to be replaced (or its side one that must stay): the
+    // other sides' unions do not hold x, their fans turn over, nothing is made.
+    p = start;
+    EXPECT_EQ(fanAcrossSide(f, {x}, grid, p, across, [&](int g) { return g != right; }, plane, tree, 1.0, 0.1, 0.4)
+                  .neighbour,
+              -1);
+    EXPECT_EQ(p, start);
+    auto keepShared = [&](int a, int b) {
+        return (a == id(2, 2) && b == id(2, 1)) ? -1 : across(a, b);
+    };
+    EXPECT_EQ(fanAcrossSide(f, {x}, grid, p, keepShared, any, plane, tree, 1.0, 0.1, 0.4).neighbour, -1);
+    EXPECT_EQ(p, start);
+    // Too thin a triangle (the apex 0.05 from the far side of the rectangle) is refused.
+    EXPECT_EQ(fanAcrossSide(f, {Vec3(2.95, 1.5, 0)}, grid, p, across, any, plane, tree, 1.0, 0.1, 0.4).neighbour, -1);
+    EXPECT_EQ(p, start);
+}
+
 } // namespace
 } // namespace rosy::remesh
