@@ -443,6 +443,23 @@ TEST(RemoveCrossingEdges, OneOfTwoCrossingDiagonalsGoesTheSidesStay) {
 namespace rosy::remesh {
 namespace {
 
+// A 4 × 4 grid of unit quads on z = 0, counter-clockwise seen from +z: corner (i, j)
+// is vertex gridId(i, j), the quads row by row.
+int gridId(int i, int j) { return j * 5 + i; }
+std::vector<Vec3> gridCorners() {
+    std::vector<Vec3> x;
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) x.push_back({double(i), double(j), 0});
+    return x;
+}
+Polygons gridQuads() {
+    Polygons grid;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+            grid.push_back({gridId(i, j), gridId(i + 1, j), gridId(i + 1, j + 1), gridId(i, j + 1)});
+    return grid;
+}
+
 // A roof: two planes at 45° meeting in a ridge along x (z = −|y|), faces outward.
 field::Mesh roof() {
     return field::Mesh::fromTriangles({{-2, 0, 0}, {2, 0, 0}, {-2, 2, -2}, {2, 2, -2}, {-2, -2, -2}, {2, -2, -2}},
@@ -549,13 +566,9 @@ TEST(MoveCornerOnto, TheNearestFreeCornerTakesAFarPointTheGridKeepsItsFaces) {
     const field::Mesh bump = field::Mesh::fromTriangles(
         {{-1, -1, 0}, {5, -1, 0}, {5, 5, 0}, {-1, 5, 0}, apex}, {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}, "bump");
     const AabbTree tree(bump);
-    auto id = [](int i, int j) { return j * 5 + i; };
-    std::vector<Vec3> start;
-    for (int j = 0; j < 5; ++j)
-        for (int i = 0; i < 5; ++i) start.push_back({double(i), double(j), 0});
-    Polygons grid;
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) grid.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    const auto id = gridId;
+    const std::vector<Vec3> start = gridCorners();
+    const Polygons grid = gridQuads();
     const std::vector<int> &quad = grid[size_t(2 * 4 + 2)];
     auto any = [](int) { return true; };
     std::vector<int> around;
@@ -595,13 +608,9 @@ TEST(FanAcrossSide, APointBeyondASideIsFannedWithTheNeighbourThere) {
     const field::Mesh plane = field::Mesh::fromTriangles({{-1, -1, 0}, {5, -1, 0}, {5, 5, 0}, {-1, 5, 0}},
                                                          {{0, 1, 2}, {0, 2, 3}}, "plane");
     const AabbTree tree(plane);
-    auto id = [](int i, int j) { return j * 5 + i; };
-    std::vector<Vec3> start;
-    for (int j = 0; j < 5; ++j)
-        for (int i = 0; i < 5; ++i) start.push_back({double(i), double(j), 0});
-    Polygons grid;
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) grid.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    const auto id = gridId;
+    const std::vector<Vec3> start = gridCorners();
+    const Polygons grid = gridQuads();
     std::map<std::pair<int, int>, int> owner;
     for (size_t g = 0; g < grid.size(); ++g)
         for (size_t k = 0; k < 4; ++k) owner[{grid[g][k], grid[g][(k + 1) % 4]}] = int(g);
