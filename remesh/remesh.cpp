@@ -2143,9 +2143,13 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     // a diagonal. It stays, a vertex of one face and of the opening beside it; if
     // neither of its two traced faces is an opening (a ragged boundary, where the
     // lattice does not follow the sides) it is released and dissolved after all.
+    // A feature corner inside the surface (a pyramid's apex, a star's tips) whose
+    // lattice reached it from two sides only stays too: dissolving it would cut the tip
+    // off (pyramid: the apex 1.26 L from the output). Its two faces are cut by
+    // diagonals from it once traced (splitFacesAtCorners), so it is no valence-2 vertex.
     std::vector<char> released(features ? size_t(nC) : 0, 0);
     auto keepCorner = [&](int v) {
-        return features && cKind[size_t(v)] == 2 && cBoundary[size_t(v)] && !released[size_t(v)];
+        return features && cKind[size_t(v)] == 2 && !released[size_t(v)];
     };
     std::vector<std::vector<int>> ring(nC), faces;
     auto slotOf = [&](int v, int u) {
@@ -2214,6 +2218,12 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         for (int v = 0; v < nC; ++v)
             if (ring[v].size() == 2 && keepCorner(v)) {
                 const int f0 = faceOf[v][0], f1 = faceOf[v][1];
+                if (!cBoundary[size_t(v)]) { // inside: kept where its two faces are two
+                    if (f0 != f1) continue;
+                    released[size_t(v)] = 1;
+                    ++releasedNow;
+                    continue;
+                }
                 auto simple = [&](int f) { // through no vertex twice
                     std::vector<int> sorted = faces[size_t(f)];
                     std::sort(sorted.begin(), sorted.end());
@@ -2324,6 +2334,30 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         }
     result.repairs["faces_split"] = split;
     mergeTrianglePairs(polygons, positions, result.nSym, result.repairs);
+    // A feature corner inside the surface kept with two neighbours (keepCorner) has
+    // two faces: each is cut by a diagonal from it (no face farther from the input than
+    // it was), so the corner gets four edges and stays a vertex of the output.
+    int cornerFacesCut = 0;
+    if (features) {
+        const size_t nPolygons = polygons.size();
+        for (size_t f = 0; f < nPolygons; ++f) {
+            const std::vector<int> P = polygons[f];
+            if (P.size() < 4) continue;
+            for (size_t i = 0; i < P.size(); ++i) {
+                const int v = P[i];
+                if (v >= nC || cKind[size_t(v)] != 2 || cBoundary[size_t(v)] || graph[size_t(v)].size() != 2) continue;
+                const double limit = std::max(kFarDistance * options.edgeLength,
+                                              farthestFromInput(P, positions, tree, options.edgeLength));
+                const auto cut = cutFrom(P, int(i), positions, mesh, tree, options.edgeLength, limit);
+                if (cut.empty()) break;
+                polygons[f] = cut[0];
+                polygons.push_back(cut[1]);
+                ++cornerFacesCut;
+                break;
+            }
+        }
+    }
+    result.repairs["corner_faces_cut"] = cornerFacesCut;
     dissolveValence2(polygons, int(positions.size()), maxSides, result.repairs);
     // A later step that leaves vertices with two neighbours dissolves them too; the
     // count (which dissolveValence2 sets) then adds up over the passes.

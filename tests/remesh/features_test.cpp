@@ -161,6 +161,32 @@ TEST(RemeshFeatures, BunnyEarFoldedQuadIsCutAndTheDistanceHolds) {
     EXPECT_GE(r.result.repairs.at("far_quads_cut"), 1);
 }
 
+// A pyramid (CGAL's pyramid.off: a square base at x = −1, the apex at (1, 0, 0)), as
+// `rosyhatch remesh` makes it at L = 1 % (refined first): the lattice reached the apex
+// from two of its four creases only, and the vertex there, with two neighbours, was
+// dissolved like any other — the tip cut off, the apex 1.26 % of the diagonal from the
+// output. A feature corner inside the surface stays now and its two faces are cut by
+// diagonals from it; this fails on the code before.
+TEST(RemeshFeatures, PyramidKeepsItsApex) {
+    const Mesh pyramid = Mesh::fromTriangles({{-1, -0.5, -0.5}, {-1, -0.5, 0.5}, {-1, 0.5, 0.5}, {-1, 0.5, -0.5}, {1, 0, 0}},
+                                             {{1, 0, 4}, {2, 1, 4}, {3, 2, 4}, {0, 3, 4}, {0, 1, 2}, {0, 2, 3}},
+                                             "pyramid");
+    field::Vec3 lo, hi;
+    pyramid.bounds(lo, hi);
+    const Mesh refined = refineCoarseInput(pyramid, 0.01 * (hi - lo).norm(), 20'000'000);
+    const Remeshed r = remeshWithFeatures(refined, 0.01, 50);
+    EXPECT_TRUE(r.quality.closed);
+    expectValid(r.quality, 2);
+    EXPECT_EQ(r.quality.valence2Vertices, 0);
+    for (int c = 0; c < 5; ++c) { // every corner of the input is a vertex of the output
+        double nearest = 1e9;
+        for (const Vec3 &p : r.result.positions) nearest = std::min(nearest, (p - pyramid.position(c)).norm());
+        EXPECT_LT(nearest, 1e-9) << "corner " << pyramid.position(c).transpose();
+    }
+    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
+    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
+}
+
 // CGAL's camel at L = 1 %: 0.65 % / 0.60 % of the diagonal from its input before —
 // a far point along an edge but away from its midpoint (the repair looked at
 // midpoints only), and patches the flip repairs refilled after the distance was held.
