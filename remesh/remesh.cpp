@@ -2145,8 +2145,9 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     // lattice does not follow the sides) it is released and dissolved after all.
     // A feature corner inside the surface (a pyramid's apex, a star's tips) whose
     // lattice reached it from two sides only stays too: dissolving it would cut the tip
-    // off (pyramid: the apex 1.26 L from the output). Its two faces are cut by
-    // diagonals from it once traced (splitFacesAtCorners), so it is no valence-2 vertex.
+    // off (pyramid at 1 %: the apex 1.26 % of the diagonal from the output). Its two
+    // faces are cut by diagonals from it once traced (`corner_faces_cut` below), so it
+    // is no valence-2 vertex.
     std::vector<char> released(features ? size_t(nC) : 0, 0);
     auto keepCorner = [&](int v) {
         return features && cKind[size_t(v)] == 2 && !released[size_t(v)];
