@@ -1582,7 +1582,14 @@ std::vector<std::vector<int>> cutFrom(const std::vector<int> &H, int i, const st
 /// Both keep the mesh closed, manifold and oriented (the new faces cover the old).
 void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &positions, const field::Mesh &input,
                   const AabbTree &inputTree, double L, const std::function<bool(size_t)> &fixed,
-                  std::map<std::string, int> &repairs) {
+                  std::map<std::string, int> &repairs,
+                  const std::function<bool(int, int)> &alongFeature = {}) {
+    // An edge between two feature vertices is a piece of a feature curve — not split,
+    // not joined across — unless `alongFeature` says it runs off the curves (a chord
+    // across a tip between two of its creases); without it every such edge is one.
+    auto featureEdge = [&](int a, int b) {
+        return fixed && fixed(size_t(a)) && fixed(size_t(b)) && (!alongFeature || alongFeature(a, b));
+    };
     const double reach = kFarDistance * L;
     int edgesSplit = 0, fanned = 0, quadsCut = 0, left = 0, cornersMoved = 0, fannedWithNeighbour = 0;
     const auto key = directedEdgeKey;
@@ -1615,7 +1622,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
         std::vector<int> farEdges;
         for (size_t e = 0; e < edges.size(); ++e)
             if (edgeDist[e] > reach && edgePoly.count(key(edges[e].second, edges[e].first)) &&
-                !(fixed && fixed(size_t(edges[e].first)) && fixed(size_t(edges[e].second))))
+                !featureEdge(edges[e].first, edges[e].second))
                 farEdges.push_back(int(e));
         std::sort(farEdges.begin(), farEdges.end(), [&](int a, int b) {
             return edgeDist[size_t(a)] != edgeDist[size_t(b)] ? edgeDist[size_t(a)] > edgeDist[size_t(b)] : a < b;
@@ -1779,7 +1786,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                 const JoinedFan joined = fanAcrossSide(
                     f, target[size_t(f)], polygons, positions,
                     [&](int a, int b) { // a crease's side stays (both ends on a feature curve)
-                        if (fixed && fixed(size_t(a)) && fixed(size_t(b))) return -1;
+                        if (featureEdge(a, b)) return -1;
                         const auto it = edgePoly.find(key(a, b));
                         return it == edgePoly.end() ? -1 : it->second;
                     },
@@ -2389,9 +2396,24 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     relaxVertices(polygons, positions, tree, options.relaxRounds, result.repairs, constrain);
     snapToProtrusions(polygons, positions, mesh, options.edgeLength,
                       onFeature, result.repairs);
+    // An edge between two feature vertices runs along a feature curve when its middle
+    // is within L/4 of one (brute force over the curves' pieces: called for far edges
+    // and sides only).
+    std::function<bool(int, int)> alongFeature;
+    if (features)
+        alongFeature = [&](int a, int b) {
+            const Vec3 x = 0.5 * (positions[size_t(a)] + positions[size_t(b)]);
+            const double reach2 = 0.0625 * options.edgeLength * options.edgeLength;
+            for (const auto &edge : F.featureEdges) {
+                const Vec3 &p = F.p[edge[0]], d = F.p[edge[1]] - F.p[edge[0]];
+                const double t = std::clamp((x - p).dot(d) / std::max(1e-300, d.squaredNorm()), 0.0, 1.0);
+                if ((p + t * d - x).squaredNorm() <= reach2) return true;
+            }
+            return false;
+        };
     const auto th = Clock::now();
     holdDistance(polygons, positions, mesh, tree, options.edgeLength,
-                 onFeature, result.repairs);
+                 onFeature, result.repairs, alongFeature);
     result.timingsMs["distance_repair"] = msSince(th);
     if (features) result.repairs["boundary_openings_left_open"] = openings;
     result.repairs["holes_filled"] = holes;
@@ -2441,7 +2463,7 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         std::vector<Vec3> keptPositions = positions;
         const std::map<std::string, int> keptRepairs = result.repairs;
         std::map<std::string, int> again;
-        holdDistance(polygons, positions, mesh, tree, options.edgeLength, onFeature, again);
+        holdDistance(polygons, positions, mesh, tree, options.edgeLength, onFeature, again, alongFeature);
         for (const auto &[name, count] : again)
             result.repairs[name] = name == "far_points_left" ? count : result.repairs[name] + count;
         dissolveValence2Again();

@@ -34,7 +34,7 @@ fi
 # Sample meshes from Debian's CGAL demo data (never committed: data/ is git-ignored).
 meshes=(bunny00.off armadillo.off fandisk.off elephant.off camel.off ChineseDragon-10kv.off double-torus-example.off
         head.off mannequin-devil.off triceratops.off couplingdown.off femur.off three_peaks.off
-        elephant-with-holes.off lion-head.off man.off homer.off hand.off sphere.ply pig.stl)
+        elephant-with-holes.off lion-head.off man.off homer.off hand.off sphere.ply pig.stl helmet.off)
 mkdir -p data/meshes
 need=()
 for m in "${meshes[@]}"; do [ -s "data/meshes/$m" ] || need+=("data/meshes/$m"); done
