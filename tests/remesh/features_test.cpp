@@ -46,6 +46,15 @@ Remeshed runSample(const std::string &file) {
     return remeshWithFeatures(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/" + file), 0.01, 50);
 }
 
+// Closed, valid with Euler characteristic `chi`, and within the 0.5 % of the
+// diagonal of its input both ways.
+void expectClosedAndNear(const Remeshed &r, int chi) {
+    EXPECT_TRUE(r.quality.closed);
+    expectValid(r.quality, chi);
+    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
+    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
+}
+
 // `mesh` remeshed at L = 1 % as `rosyhatch remesh` makes it: a coarse input refined
 // first (refineCoarseInput); `refined` says whether it was.
 Remeshed remeshAsTheCommandDoes(const Mesh &mesh, bool *refined = nullptr) {
@@ -143,11 +152,7 @@ TEST(RemeshFeatures, ManHasNoFlippedOrDegenerateFace) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "about ten times slower under the sanitizers; the Release suite runs it";
 #endif
-    const Remeshed r = runSample("man.off");
-    EXPECT_TRUE(r.quality.closed);
-    expectValid(r.quality, 2);
-    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
-    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
+    expectClosedAndNear(runSample("man.off"), 2);
 }
 
 // bunny00 at L = 0.98 %: a quad folded over the ear's top (a rim about 1.8 L thick,
@@ -164,10 +169,8 @@ TEST(RemeshFeatures, BunnyEarFoldedQuadIsCutAndTheDistanceHolds) {
     const Remeshed r = remeshWithFeatures(bunny, 0.0098, 50, 0);
     const Remeshed moved = remeshWithFeatures(bunny, 0.0098, 50);
     for (const Remeshed *x : {&r, &moved}) {
-        EXPECT_TRUE(x->quality.closed);
-        expectValid(x->quality, 2);
-        EXPECT_LE(x->quality.distanceOutToInPct, 0.5);
-        EXPECT_LE(x->quality.distanceInToOutPct, 0.5);
+        SCOPED_TRACE(x == &r ? "dislocations kept" : "dislocations moved");
+        expectClosedAndNear(*x, 2);
     }
     EXPECT_GE(r.result.repairs.at("far_quads_cut"), 1);
 }
@@ -183,16 +186,13 @@ TEST(RemeshFeatures, PyramidKeepsItsApex) {
                                              {{1, 0, 4}, {2, 1, 4}, {3, 2, 4}, {0, 3, 4}, {0, 1, 2}, {0, 2, 3}},
                                              "pyramid");
     const Remeshed r = remeshAsTheCommandDoes(pyramid);
-    EXPECT_TRUE(r.quality.closed);
-    expectValid(r.quality, 2);
+    expectClosedAndNear(r, 2);
     EXPECT_EQ(r.quality.valence2Vertices, 0);
     for (int c = 0; c < 5; ++c) { // every corner of the input is a vertex of the output
         double nearest = 1e9;
         for (const Vec3 &p : r.result.positions) nearest = std::min(nearest, (p - pyramid.position(c)).norm());
         EXPECT_LT(nearest, 1e-9) << "corner " << pyramid.position(c).transpose();
     }
-    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
-    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
 }
 
 // CGAL's camel at L = 1 %: 0.65 % / 0.60 % of the diagonal from its input before —
@@ -208,10 +208,7 @@ TEST(RemeshFeatures, CamelDistanceHeldAfterTheFlipRepairs) {
     const Remeshed r =
         remeshAsTheCommandDoes(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/camel.off"), &refined);
     ASSERT_TRUE(refined);
-    EXPECT_TRUE(r.quality.closed);
-    expectValid(r.quality, 2);
-    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
-    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
+    expectClosedAndNear(r, 2);
     EXPECT_GE(r.result.repairs.at("flipped_patches_refilled"), 1); // the second hold has work to do
 }
 
@@ -225,11 +222,7 @@ TEST(RemeshFeatures, HelmetDistanceHeldBetweenItsCreases) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "several times slower under the sanitizers; the Release suite runs it";
 #endif
-    const Remeshed r = remeshAsTheCommandDoes(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/helmet.off"));
-    EXPECT_TRUE(r.quality.closed);
-    expectValid(r.quality, -4);
-    EXPECT_LE(r.quality.distanceOutToInPct, 0.5);
-    EXPECT_LE(r.quality.distanceInToOutPct, 0.5);
+    expectClosedAndNear(remeshAsTheCommandDoes(field::loadMesh(std::string(ROSY_DATA_DIR) + "/meshes/helmet.off")), -4);
 }
 
 // The femur (CGAL data, genus 2): its tunnels are narrower than L at 1 %, and what
