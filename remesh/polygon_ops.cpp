@@ -299,6 +299,26 @@ double smallestAngleOf(const std::vector<int> &P, const std::vector<Vec3> &posit
 
 } // namespace
 
+std::vector<std::vector<int>> soundFan(const std::vector<int> &loop, int apex, const std::vector<Vec3> &positions,
+                                       const field::Mesh &input, const AabbTree &inputTree, double L,
+                                       double minHeight, double limit, double *farthest) {
+    std::vector<std::vector<int>> fan;
+    double far = 0;
+    const size_t n = loop.size();
+    const Vec3 &x = positions[size_t(apex)];
+    for (size_t k = 0; k < n; ++k) {
+        const Vec3 &a = positions[size_t(loop[k])], &b = positions[size_t(loop[(k + 1) % n])];
+        const double h = (b - a).cross(x - a).norm() / std::max((b - a).norm(), 1e-300);
+        fan.push_back({apex, loop[k], loop[(k + 1) % n]});
+        if (!(h >= minHeight) || !facesInput(fan.back(), positions, input, inputTree)) return {};
+        const double d = farthestFromInput(fan.back(), positions, inputTree, L);
+        if (!(d <= limit)) return {};
+        far = std::max(far, d);
+    }
+    if (farthest) *farthest = far;
+    return fan;
+}
+
 JoinedFan fanAcrossSide(int f, const std::vector<Vec3> &targets, const std::vector<std::vector<int>> &polygons,
                         std::vector<Vec3> &positions, const std::function<int(int, int)> &across,
                         const std::function<bool(int)> &usable, const field::Mesh &input,
@@ -327,22 +347,12 @@ JoinedFan fanAcrossSide(int f, const std::vector<Vec3> &targets, const std::vect
         std::sort(sorted.begin(), sorted.end());
         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
         const double lim = std::max({limit, kFarDistance * L, 0.9 * farthestFromInput(G, positions, inputTree, L)});
-        const size_t ln = loop.size();
         for (const Vec3 &x : targets) {
             positions.push_back(x);
-            std::vector<std::vector<int>> fan;
-            bool good = true;
             double far = 0;
-            for (size_t i = 0; good && i < ln; ++i) {
-                const Vec3 &p0 = positions[size_t(loop[i])], &p1 = positions[size_t(loop[(i + 1) % ln])];
-                const double h = (p1 - p0).cross(x - p0).norm() / std::max((p1 - p0).norm(), 1e-300);
-                fan.push_back({apex, loop[i], loop[(i + 1) % ln]});
-                const double d = farthestFromInput(fan.back(), positions, inputTree, L);
-                far = std::max(far, d);
-                good = h >= minHeight && facesInput(fan.back(), positions, input, inputTree) && d <= lim;
-            }
+            std::vector<std::vector<int>> fan = soundFan(loop, apex, positions, input, inputTree, L, minHeight, lim, &far);
             positions.pop_back();
-            if (good && far < bestFar) bestFar = far, best.neighbour = g, best.faces = std::move(fan), bestApex = x;
+            if (!fan.empty() && far < bestFar) bestFar = far, best.neighbour = g, best.faces = std::move(fan), bestApex = x;
         }
     }
     if (best.neighbour >= 0) positions.push_back(bestApex);

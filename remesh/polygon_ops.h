@@ -133,6 +133,15 @@ int moveCornerOnto(const std::vector<int> &poly, const Vec3 &x, const std::vecto
                    double limit, const std::function<bool(size_t)> &fixed, const std::function<bool(int)> &usable,
                    std::vector<int> &around);
 
+/// The fan of triangles (apex, loop[k], loop[k + 1]) from positions[apex] over `loop`
+/// (the distance repair's fan), if every one is no thinner than `minHeight` (its height
+/// over its side of the loop), faces the input (facesInput) and has no sample farther
+/// from the input than `limit` (farthestFromInput); else empty. `farthest`, if given,
+/// gets the largest of its triangles' farthest samples.
+std::vector<std::vector<int>> soundFan(const std::vector<int> &loop, int apex, const std::vector<Vec3> &positions,
+                                       const field::Mesh &input, const AabbTree &inputTree, double L,
+                                       double minHeight, double limit, double *farthest = nullptr);
+
 /// A far point no fan of its polygon alone takes — one fan triangle would turn over
 /// (the point lies beyond one of its sides) or stay as far as the polygon was (the far
 /// region straddles a side) — fanned from the polygon joined with its neighbour across

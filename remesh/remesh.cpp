@@ -1614,6 +1614,7 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
             edgeDist[size_t(e)] = std::sqrt(inputTree.closest(pa + 0.5 * d).distance2);
             const int k = std::clamp(int(std::ceil(d.norm() / (L / 3))), 2, 64);
             for (int i = 1; i < k; ++i) {
+                if (2 * i == k) continue; // the midpoint, done
                 const double t = double(i) / k;
                 const double dist = std::sqrt(inputTree.closest(pa + t * d).distance2);
                 if (dist > edgeDist[size_t(e)]) edgeDist[size_t(e)] = dist, edgeAt[size_t(e)] = t;
@@ -1737,7 +1738,6 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
                 continue;
             }
             const std::vector<int> poly = polygons[size_t(f)];
-            const size_t n = poly.size();
             const int xi = int(positions.size());
             std::vector<std::vector<int>> fan;
             bool ok = false;
@@ -1762,15 +1762,8 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
             }
             for (const Vec3 &x : target[size_t(f)]) {
                 positions.push_back(x);
-                fan.clear();
-                ok = true;
-                for (size_t k = 0; ok && k < n; ++k) {
-                    const Vec3 &a = positions[poly[k]], &b = positions[poly[(k + 1) % n]];
-                    const double h = (b - a).cross(x - a).norm() / std::max((b - a).norm(), 1e-300);
-                    fan.push_back({xi, poly[k], poly[(k + 1) % n]});
-                    ok = h >= kFanMinHeight * L && facesInput(fan.back(), positions, input, inputTree) &&
-                         farthestFromInput(fan.back(), positions, inputTree, L) <= limit;
-                }
+                fan = soundFan(poly, xi, positions, input, inputTree, L, kFanMinHeight * L, limit);
+                ok = !fan.empty();
                 if (ok) break;
                 positions.pop_back();
             }
@@ -2018,14 +2011,17 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
     std::vector<char> cKind(features ? size_t(nC) : 0, 0), cBoundary(features ? size_t(nC) : 0, 0);
     std::vector<int> cCorner(features ? size_t(nC) : 0, -1);
     std::vector<std::vector<int>> cSegments(features ? size_t(nC) : 0);
+    // The point of feature edge e nearest x.
+    auto onFeatureEdge = [&](const Vec3 &x, size_t e) {
+        const Vec3 &a = F.p[F.featureEdges[e][0]], d = F.p[F.featureEdges[e][1]] - a;
+        const double t = std::clamp((x - a).dot(d) / std::max(1e-300, d.squaredNorm()), 0.0, 1.0);
+        return Vec3(a + t * d);
+    };
     auto ontoSegments = [&](const Vec3 &x, const std::vector<int> &segs) {
         Vec3 best = x;
         double bestD = std::numeric_limits<double>::infinity();
         for (int e : segs) {
-            const Vec3 &a = F.p[F.featureEdges[size_t(e)][0]], &b = F.p[F.featureEdges[size_t(e)][1]];
-            const Vec3 d = b - a;
-            const double t = std::clamp((x - a).dot(d) / std::max(1e-300, d.squaredNorm()), 0.0, 1.0);
-            const Vec3 y = a + t * d;
+            const Vec3 y = onFeatureEdge(x, size_t(e));
             const double dist = (y - x).squaredNorm();
             if (dist < bestD) bestD = dist, best = y;
         }
@@ -2404,11 +2400,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         alongFeature = [&](int a, int b) {
             const Vec3 x = 0.5 * (positions[size_t(a)] + positions[size_t(b)]);
             const double reach2 = 0.0625 * options.edgeLength * options.edgeLength;
-            for (const auto &edge : F.featureEdges) {
-                const Vec3 &p = F.p[edge[0]], d = F.p[edge[1]] - F.p[edge[0]];
-                const double t = std::clamp((x - p).dot(d) / std::max(1e-300, d.squaredNorm()), 0.0, 1.0);
-                if ((p + t * d - x).squaredNorm() <= reach2) return true;
-            }
+            for (size_t e = 0; e < F.featureEdges.size(); ++e)
+                if ((onFeatureEdge(x, e) - x).squaredNorm() <= reach2) return true;
             return false;
         };
     const auto th = Clock::now();
