@@ -56,6 +56,15 @@ FieldDrawing drawFieldPicture(const field::Mesh &mesh, const field::TangentFrame
 
     const double sizeScale = std::min(width, height) / 1024.0;
     const Visibility vis(gbuffer, camera, diagonal);
+    // The normal of the face holding each point of a traced line (empty if the line
+    // does not name them), so a wall's far side is not drawn through it.
+    auto facingOf = [&](const field::Streamline &line) {
+        std::vector<Vec3> normals;
+        if (line.faces.size() != line.points.size()) return normals;
+        normals.reserve(line.faces.size());
+        for (int f : line.faces) normals.push_back(f >= 0 && f < mesh.nFaces() ? mesh.faceNormal(f) : Vec3::Zero());
+        return normals;
+    };
     // Each ink's kind and family choose its pen layer in the SVG (fieldPictureStrokes()).
     auto ink = [&](std::string name, const styles::Rgb &colour, double opacity, StrokeKind kind, int family,
                    std::vector<Stroke> strokes, bool vector = true) {
@@ -85,7 +94,7 @@ FieldDrawing drawFieldPicture(const field::Mesh &mesh, const field::TangentFrame
         // Long steps (edge crossings still cut them): these short lines only need to
         // look right, and the tracer's default half-edge step dominates the cost.
         so.stepLength = std::max(mesh.meanEdgeLength(), 0.125 * so.maxLength);
-        std::vector<std::vector<field::Vec3>> lines(seeds.size() * size_t(nMembers));
+        std::vector<field::Streamline> lines(seeds.size() * size_t(nMembers));
         parallelFor(0, int64_t(seeds.size()), [&](int64_t s) {
             const int f = seeds[size_t(s)];
             if (faceIndex[size_t(f)] != 0) return;
@@ -97,19 +106,24 @@ FieldDrawing drawFieldPicture(const field::Mesh &mesh, const field::TangentFrame
                 const Vec3 dir = frames.faceDirection(f, base + 2.0 * M_PI * k / field.nSym);
                 field::Streamline line = field::traceStreamline(frames, field, f, Vec3::Constant(1.0 / 3.0), dir, so,
                                                                 &faceIndex);
-                lines[size_t(s) * size_t(nMembers) + size_t(k)] = std::move(line.points);
+                lines[size_t(s) * size_t(nMembers) + size_t(k)] = std::move(line);
             }
         }, 16);
-        for (const auto &pts : lines)
-            addVisibleStrokes(streamStrokes, pts, camera, vis, options.streamlineWidthPx * sizeScale);
+        for (const field::Streamline &line : lines) {
+            const std::vector<Vec3> normals = facingOf(line);
+            addVisibleStrokes(streamStrokes, line.points, camera, vis, options.streamlineWidthPx * sizeScale,
+                              normals.empty() ? nullptr : &normals);
+        }
     }
     ink("streamlines", options.streamlineColor, 0.9, StrokeKind::Hatch, 0, std::move(streamStrokes));
     drawing.inks.back().minRasterWidthPx = 0.8;
 
     std::vector<Stroke> outgoing, incoming;
-    for (const field::Separatrix &s : separatrices)
+    for (const field::Separatrix &s : separatrices) {
+        const std::vector<Vec3> normals = facingOf(s.line);
         addVisibleStrokes(s.incoming ? incoming : outgoing, s.line.points, camera, vis,
-                          options.separatrixWidthPx * sizeScale);
+                          options.separatrixWidthPx * sizeScale, normals.empty() ? nullptr : &normals);
+    }
     ink("outgoing separatrices", options.outgoingColor, 1.0, StrokeKind::Hatch, 1, std::move(outgoing));
     ink("incoming separatrices", options.incomingColor, 1.0, StrokeKind::Hatch, 1, std::move(incoming));
 

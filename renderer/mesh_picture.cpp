@@ -12,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace rosy::renderer {
@@ -97,22 +98,45 @@ FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vect
             for (int c = 0; c < 3; ++c) drawing.fill.data[3 * i + size_t(c)] *= float(options.otherFaceTint[c]);
         }
 
+    // Polygon normals (Newell's, area-weighted), summed per vertex and per edge: what
+    // each side of a wall thinner than the visibility's depth tolerance faces, so its
+    // far side's lines and dots are not drawn through the near side.
+    std::vector<Vec3> vertexNormal(size_t(nV), Vec3::Zero());
+    std::vector<Vec3> polygonNormal(polygons.size(), Vec3::Zero());
+    for (size_t p = 0; p < polygons.size(); ++p) {
+        const std::vector<int> &poly = polygons[p];
+        for (size_t i = 0; i < poly.size(); ++i)
+            polygonNormal[p] += positions[size_t(poly[i])].cross(positions[size_t(poly[(i + 1) % poly.size()])]);
+        for (int v : poly) vertexNormal[size_t(v)] += polygonNormal[p];
+    }
+
     // Undirected edges with the number of polygons on each; valence and boundary per vertex.
-    std::vector<std::pair<int, int>> halfEdges;
-    for (const std::vector<int> &poly : polygons)
+    struct HalfEdge {
+        int a, b, polygon;
+    };
+    std::vector<HalfEdge> halfEdges;
+    for (size_t p = 0; p < polygons.size(); ++p) {
+        const std::vector<int> &poly = polygons[p];
         for (size_t i = 0; i < poly.size(); ++i) {
             const int a = poly[i], b = poly[(i + 1) % poly.size()];
-            halfEdges.emplace_back(std::min(a, b), std::max(a, b));
+            halfEdges.push_back({std::min(a, b), std::max(a, b), int(p)});
         }
-    std::sort(halfEdges.begin(), halfEdges.end());
+    }
+    std::sort(halfEdges.begin(), halfEdges.end(), [](const HalfEdge &x, const HalfEdge &y) {
+        return std::tie(x.a, x.b, x.polygon) < std::tie(y.a, y.b, y.polygon);
+    });
     std::vector<int> valence(size_t(nV), 0);
     std::vector<char> onBoundary(size_t(nV), 0);
     std::vector<std::pair<int, int>> edges;
+    std::vector<Vec3> edgeNormal;
     for (size_t i = 0; i < halfEdges.size();) {
+        const int a = halfEdges[i].a, b = halfEdges[i].b;
+        Vec3 normal = Vec3::Zero();
         size_t j = i;
-        while (j < halfEdges.size() && halfEdges[j] == halfEdges[i]) ++j;
-        const auto [a, b] = halfEdges[i];
+        for (; j < halfEdges.size() && halfEdges[j].a == a && halfEdges[j].b == b; ++j)
+            normal += polygonNormal[size_t(halfEdges[j].polygon)];
         edges.emplace_back(a, b);
+        edgeNormal.push_back(normal);
         ++valence[size_t(a)];
         ++valence[size_t(b)];
         if (j - i == 1) onBoundary[size_t(a)] = onBoundary[size_t(b)] = 1;
@@ -131,9 +155,12 @@ FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vect
     };
 
     std::vector<Stroke> edgeStrokes;
-    for (const auto &[a, b] : edges)
+    for (size_t e = 0; e < edges.size(); ++e) {
+        const auto [a, b] = edges[e];
+        const std::vector<Vec3> normals(2, edgeNormal[e]);
         addVisibleStrokes(edgeStrokes, {positions[size_t(a)], positions[size_t(b)]}, camera, vis,
-                          options.edgeWidthPx * sizeScale);
+                          options.edgeWidthPx * sizeScale, &normals);
+    }
     ink("edges", options.edgeColor, StrokeKind::Hatch, 0, std::move(edgeStrokes));
     drawing.inks.back().minRasterWidthPx = 0.8;
 
@@ -148,7 +175,7 @@ FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vect
     std::vector<Stroke> low, high, degenerate;
     for (int v = 0; v < nV; ++v) {
         if (valence[size_t(v)] == 0 || onBoundary[size_t(v)] || valence[size_t(v)] == regularValence) continue;
-        if (!vis.visible(positions[size_t(v)], 1.5)) continue;
+        if (!vis.visible(positions[size_t(v)], vertexNormal[size_t(v)], 1.5)) continue;
         std::vector<Stroke> &group =
             valence[size_t(v)] <= 2 ? degenerate : (valence[size_t(v)] < regularValence ? low : high);
         group.push_back(dot(camera.project(positions[size_t(v)]), options.dotRadiusPx * sizeScale,

@@ -4,6 +4,7 @@
 
 #include "renderer/picture_common.h"
 
+#include "core/error.h"
 #include "renderer/view/embree_scene.h"
 
 #include <algorithm>
@@ -20,7 +21,9 @@ Visibility::Visibility(const GBuffer &gbuffer, const Camera &camera, double diag
     m_footprintConst = camera.projection() == Projection::Perspective ? 0.0 : scale;
 }
 
-bool Visibility::visible(const Vec3 &p, double slack) const {
+bool Visibility::visible(const Vec3 &p, double slack) const { return visible(p, Vec3::Zero(), slack); }
+
+bool Visibility::visible(const Vec3 &p, const Vec3 &normal, double slack) const {
     const double d = m_camera.depth(p);
     if (!(d > 0)) return false;
     const Vec2 r = m_camera.project(p);
@@ -33,13 +36,17 @@ bool Visibility::visible(const Vec3 &p, double slack) const {
         for (int x = px - 1; x <= px + 1; ++x) {
             if (x < 0 || y < 0 || x >= m_gbuffer.width || y >= m_gbuffer.height) continue;
             const size_t i = size_t(m_gbuffer.index(x, y));
-            if (m_gbuffer.faceId[i] >= 0 && d <= m_gbuffer.depth[i] + tol) return true;
+            const int face = m_gbuffer.faceId[i];
+            if (face < 0 || d > m_gbuffer.depth[i] + tol) continue;
+            // A zero normal (the overload without one) accepts every facing.
+            if (!(m_gbuffer.mesh->faceNormal(face).dot(normal) < 0)) return true;
         }
     return false;
 }
 
 void addVisibleStrokes(std::vector<Stroke> &out, const std::vector<Vec3> &points, const Camera &camera,
-                       const Visibility &vis, double widthPx) {
+                       const Visibility &vis, double widthPx, const std::vector<Vec3> *normals) {
+    ROSY_CHECK(!normals || normals->size() == points.size());
     Stroke run;
     auto finish = [&] {
         if (run.points.size() >= 2) {
@@ -57,9 +64,10 @@ void addVisibleStrokes(std::vector<Stroke> &out, const std::vector<Vec3> &points
             continue;
         }
         const int n = std::clamp(int(std::ceil((r1 - r0).norm() / 1.5)), 1, 4096);
+        const Vec3 normal = normals ? Vec3((*normals)[i] + (*normals)[i + 1]) : Vec3::Zero();
         for (int k = 0; k < n; ++k) {
             const double t0 = double(k) / n, t1 = double(k + 1) / n;
-            if (!vis.visible(p0 + (0.5 * (t0 + t1)) * (p1 - p0))) {
+            if (!vis.visible(p0 + (0.5 * (t0 + t1)) * (p1 - p0), normal)) {
                 finish();
                 continue;
             }

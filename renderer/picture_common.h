@@ -28,6 +28,11 @@ public:
     /// with the pixel footprint (times `slack`) so grazing surfaces keep their lines.
     bool visible(const Vec3 &p, double slack = 1.0) const;
 
+    /// The same for a point of a surface facing along `normal` (any length, not
+    /// zero), which must also face the same way as the visible surface there: the far
+    /// side of a wall thinner than the depth tolerance faces away from its near side.
+    bool visible(const Vec3 &p, const Vec3 &normal, double slack = 1.0) const;
+
 private:
     const GBuffer &m_gbuffer;
     const Camera &m_camera;
@@ -38,9 +43,11 @@ private:
 /// Appends the visible parts of a world polyline to `out` as strokes of full width
 /// `widthPx`: each segment is cut into pieces of at most ~1.5 px on screen and each
 /// piece kept or dropped by the visibility of its midpoint; a run of kept pieces is
-/// one stroke (ids: their index in `out`).
+/// one stroke (ids: their index in `out`). `normals`, when given (one per point), is
+/// the surface's normal at each point: a segment is then seen only where the visible
+/// surface faces the way of its two ends' normals summed (Visibility::visible).
 void addVisibleStrokes(std::vector<Stroke> &out, const std::vector<Vec3> &points, const Camera &camera,
-                       const Visibility &vis, double widthPx);
+                       const Visibility &vis, double widthPx, const std::vector<Vec3> *normals = nullptr);
 
 /// A filled dot of radius r: a stroke of two equal points (a round cap), width 2r.
 Stroke dot(const Vec2 &centre, double r, uint32_t id);

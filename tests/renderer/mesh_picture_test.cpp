@@ -136,3 +136,65 @@ TEST(MeshPicture, RejectsBadPolygons) {
     for (float v : e.fill.data) ASSERT_EQ(v, 1.0f);
     for (const FieldInk &in : e.inks) EXPECT_TRUE(in.strokes.strokes.empty());
 }
+
+namespace {
+
+// Total on-screen length of an ink's strokes, px.
+double inkLength(const FieldInk &ink) {
+    double sum = 0;
+    for (const Stroke &s : ink.strokes.strokes)
+        for (size_t i = 1; i < s.points.size(); ++i) sum += (s.points[i] - s.points[i - 1]).norm();
+    return sum;
+}
+
+} // namespace
+
+// A closed slab 0.001 thick (a thousandth of its width, well inside the depth tolerance
+// of 0.4 % of the diagonal), seen from above: its top is a 4 x 4 grid, its bottom the
+// same grid with the inner vertices shifted, so the bottom's lines would fall between
+// the top's if they showed through. Seen from above it must look like its top alone
+// (the same grid as an open sheet): the same length of edge ink, within the few
+// pixels where the rim's side walls graze, and only the top's four corners as
+// low-valence dots (the bottom's four lie under them). Before the visibility test
+// looked at which way the surface faces, the bottom showed through: ink about twice
+// the top's, and eight dots.
+TEST(MeshPicture, AThinSlabSeenFromAboveShowsOnlyItsTop) {
+    const double h = 0.001;
+    std::vector<Vec3> p;
+    for (int side = 0; side < 2; ++side)
+        for (int j = 0; j <= 4; ++j)
+            for (int i = 0; i <= 4; ++i) {
+                const bool inner = i > 0 && i < 4 && j > 0 && j < 4;
+                const double shift = side == 1 && inner ? 0.09 : 0.0;
+                p.emplace_back(i * 0.25 - 0.5 + shift, j * 0.25 - 0.5 + 0.6 * shift, side == 0 ? h / 2 : -h / 2);
+            }
+    auto top = [](int i, int j) { return j * 5 + i; };
+    auto bottom = [](int i, int j) { return 25 + j * 5 + i; };
+    std::vector<std::vector<int>> topQuads, slab;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            topQuads.push_back({top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1)});
+            slab.push_back(topQuads.back());
+            slab.push_back({bottom(i, j), bottom(i, j + 1), bottom(i + 1, j + 1), bottom(i + 1, j)});
+        }
+    // The rim, walked counter-clockwise seen from above: one side quad per step.
+    std::vector<std::pair<int, int>> rim;
+    for (int i = 0; i < 4; ++i) rim.emplace_back(i, 0);
+    for (int j = 0; j < 4; ++j) rim.emplace_back(4, j);
+    for (int i = 4; i > 0; --i) rim.emplace_back(i, 4);
+    for (int j = 4; j > 0; --j) rim.emplace_back(0, j);
+    for (size_t k = 0; k < rim.size(); ++k) {
+        const auto [i0, j0] = rim[k];
+        const auto [i1, j1] = rim[(k + 1) % rim.size()];
+        slab.push_back({top(i0, j0), bottom(i0, j0), bottom(i1, j1), top(i1, j1)});
+    }
+    const Camera above = Camera::perspective(Vec3(0.3, 0.2, 3.0), Vec3::Zero(), Vec3(0, 1, 0), 30.0, kPictureSize,
+                                             kPictureSize);
+    const FieldDrawing sheet = drawMeshPicture(p, topQuads, {}, above);
+    const FieldDrawing closed = drawMeshPicture(p, slab, {}, above);
+    const double topInk = inkLength(inkNamed(sheet, "edges"));
+    ASSERT_GT(topInk, 500.0); // ten lines across about 120 px of picture
+    EXPECT_NEAR(inkLength(inkNamed(closed, "edges")), topInk, 0.03 * topInk);
+    EXPECT_EQ(inkNamed(closed, "low-valence vertices").strokes.strokes.size(), 4u);
+    EXPECT_TRUE(inkNamed(closed, "high-valence vertices").strokes.strokes.empty());
+}
