@@ -268,11 +268,10 @@ void runRemesh(const RemeshCliOptions &opt) {
     ropt.anisotropicScale = opt.anisotropicScale;
     ropt.featureAngleDeg = featureAngle;
     ropt.maxVertices = opt.common.maxFaces;
-    ropt.dislocationReach = nSym != 4 || opt.dislocations == "keep" ? 0.0
-                            : opt.dislocationReachGiven             ? opt.dislocationReach
-                            : opt.dislocations == "move"            ? remesh::kDislocationReachMove
-                                                                    : std::numeric_limits<double>::infinity();
-    if (opt.dislocations == "remove") ropt.dislocationConePenalty = remesh::kDislocationConePenaltyRemove;
+    remesh::setDislocationMode(ropt, nSym != 4 || opt.dislocations == "keep" ? remesh::DislocationMode::Keep
+                                     : opt.dislocations == "move"            ? remesh::DislocationMode::Move
+                                                                             : remesh::DislocationMode::Remove);
+    if (nSym == 4 && opt.dislocations != "keep" && opt.dislocationReachGiven) ropt.dislocationReach = opt.dislocationReach;
     auto t0 = Clock::now();
     remesh::RemeshResult result;
     if (opt.method == "streamlines") {
@@ -364,6 +363,14 @@ void runRemesh(const RemeshCliOptions &opt) {
                 json.value(ropt.dislocationConePenalty);
             else
                 json.null();
+            json.key("dislocation_cone_reach");
+            if (std::isfinite(ropt.dislocationConePenalty) && ropt.dislocationReach > 0)
+                json.value(ropt.dislocationConeReach);
+            else
+                json.null();
+            json.key("dislocation_anchor");
+            if (ropt.dislocationReach > 0) json.value(ropt.dislocationAnchor);
+            else json.null();
         }
         json.endObject();
         if (refinement) {
@@ -450,13 +457,14 @@ void addRemeshCommand(CLI::App &app, Action &action) {
                     "move (default): the lattice's dislocations (a triangle with a valence-5 corner where a row "
                     "is gained) moved into a partner or a singularity where that costs little (about half the "
                     "irregular vertices, a little more spread in edge length); keep: as the position field leaves "
-                    "them; remove: all that can be moved, and one that finds no partner ends beside a singularity "
-                    "(irregular vertices mostly at the singularities, but strained: edge lengths and corner angles "
-                    "spread); N = 4 only (docs/remeshing.md, Dislocations moved)")
+                    "them; remove: every one with a partner or a singularity within 80 lattice spacings, one that "
+                    "finds no partner ending beside a singularity, the strain spread wider (irregular vertices "
+                    "mostly at the singularities, edge lengths and corner angles a little more spread); N = 4 only "
+                    "(docs/remeshing.md, Dislocations moved)")
         ->capture_default_str();
     sub->add_option("--dislocation-reach", opt->dislocationReach,
                     "R > 0: how far a dislocation may be moved, in lattice spacings of clear path, instead of the "
-                    "mode's own (move: 20, remove: unbounded); larger: fewer irregular vertices, more strain "
+                    "mode's own (move: 20, remove: 80); larger: fewer irregular vertices, more strain "
                     "(docs/remeshing.md, Dislocations moved)")
         ->check(CLI::PositiveNumber);
     sub->add_option("-n,--symmetry", opt->symmetry, "4 (quads) or 6 (triangles); default the scene's if 4 or 6")

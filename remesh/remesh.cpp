@@ -1812,6 +1812,17 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
 
 } // namespace
 
+void setDislocationMode(RemeshOptions &options, DislocationMode mode) {
+    const RemeshOptions defaults;
+    options.dislocationReach = mode == DislocationMode::Keep     ? 0.0
+                               : mode == DislocationMode::Remove ? kDislocationReachRemove
+                                                                 : kDislocationReachMove;
+    const bool remove = mode == DislocationMode::Remove;
+    options.dislocationConePenalty = remove ? kDislocationConePenaltyRemove : defaults.dislocationConePenalty;
+    options.dislocationConeReach = remove ? kDislocationConeReachRemove : defaults.dislocationConeReach;
+    options.dislocationAnchor = remove ? kDislocationAnchorRemove : defaults.dislocationAnchor;
+}
+
 RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &field,
                     const field::SingularityReport &singularities, const RemeshOptions &options) {
     if (field.nSym != 4 && field.nSym != 6)
@@ -1938,6 +1949,8 @@ RemeshResult remesh(const field::TangentFrames &frames, const field::RosyField &
         DislocationOptions dopt;
         dopt.reach = options.dislocationReach;
         dopt.conePenalty = options.dislocationConePenalty;
+        dopt.coneReach = options.dislocationConeReach;
+        dopt.anchor = options.dislocationAnchor;
         const DislocationStats ds = moveDislocations(
             DislocationInput{Fm.p, Fm.n, Fm.q, Fm.o, Fm.s, Fm.s2, Fm.adjOffset, Fm.adj, Fm.tris, Fm.pinned, Fm.onLine,
                              Fm.corner, lat.s},

@@ -38,6 +38,13 @@ inline constexpr double kDislocationReachMove = 20;
 /// a cone when no partner is within five lattice spacings more of path
 /// (docs/remeshing.md, "Dislocations beside the cones").
 inline constexpr double kDislocationConePenaltyRemove = 5;
+/// `--dislocations remove`'s reach for partners and for cones, in lattice spacings of
+/// clear path, and the weaker pull of its re-solved lattice points (RemeshOptions::
+/// dislocationAnchor): the strain of its long moves spread over twice the distance
+/// (docs/remeshing.md, "`remove`'s reach and pull").
+inline constexpr double kDislocationReachRemove = 80;
+inline constexpr double kDislocationConeReachRemove = 80;
+inline constexpr double kDislocationAnchorRemove = 0.002;
 
 struct RemeshOptions {
     /// Target edge length in world units (> 0).
@@ -97,11 +104,25 @@ struct RemeshOptions {
     /// infinity: only into partners and cones it completes (`move`). `remove` uses
     /// kDislocationConePenaltyRemove.
     double dislocationConePenalty = std::numeric_limits<double>::infinity();
+    /// How far from a cone a unit may end beside it (DislocationOptions::coneReach,
+    /// lattice spacings of path); `remove` uses kDislocationConeReachRemove.
+    double dislocationConeReach = 20;
+    /// The pull of each moved lattice point to where it was (DislocationOptions::
+    /// anchor); `remove` uses kDislocationAnchorRemove.
+    double dislocationAnchor = 0.005;
     /// The input is subdivided until its mean edge is at most L / 2, then edges
     /// longer than L (or than a thin part's spacing) are bisected (repairs["long_edges_split"]); more vertices
     /// than this are refused (InputError: the edge length is too short).
     long long maxVertices = 20'000'000;
 };
+
+/// `rosyhatch remesh --dislocations keep|move|remove` (N = 4; docs/remeshing.md,
+/// "Dislocations moved"): keep moves nothing; move (the RemeshOptions defaults) the
+/// units that cost little, into partners and cones they complete; remove every unit
+/// that has a partner or a cone within kDislocationReachRemove, a lone one ending
+/// beside a cone, with the weaker pull.
+enum class DislocationMode { Keep, Move, Remove };
+void setDislocationMode(RemeshOptions &options, DislocationMode mode);
 
 /// The polygon mesh and what it cost.
 struct RemeshResult {
