@@ -271,7 +271,8 @@ void runRemesh(const RemeshCliOptions &opt) {
     remesh::setDislocationMode(ropt, nSym != 4 || opt.dislocations == "keep" ? remesh::DislocationMode::Keep
                                      : opt.dislocations == "move"            ? remesh::DislocationMode::Move
                                                                              : remesh::DislocationMode::Remove);
-    if (nSym == 4 && opt.dislocations != "keep" && opt.dislocationReachGiven) ropt.dislocationReach = opt.dislocationReach;
+    // (--dislocation-reach with keep or N = 6 was refused above.)
+    if (opt.dislocationReachGiven) ropt.dislocationReach = opt.dislocationReach;
     auto t0 = Clock::now();
     remesh::RemeshResult result;
     if (opt.method == "streamlines") {
@@ -358,19 +359,16 @@ void runRemesh(const RemeshCliOptions &opt) {
             json.key("dislocation_reach");
             if (std::isfinite(ropt.dislocationReach)) json.value(ropt.dislocationReach);
             else json.value("unbounded");
+            // The cone settings count only where cones may take lone units (`remove`),
+            // the pull wherever units move.
+            const bool moves = ropt.dislocationReach > 0;
+            const bool cones = moves && std::isfinite(ropt.dislocationConePenalty);
             json.key("dislocation_cone_penalty");
-            if (std::isfinite(ropt.dislocationConePenalty) && ropt.dislocationReach > 0)
-                json.value(ropt.dislocationConePenalty);
-            else
-                json.null();
+            cones ? json.value(ropt.dislocationConePenalty) : json.null();
             json.key("dislocation_cone_reach");
-            if (std::isfinite(ropt.dislocationConePenalty) && ropt.dislocationReach > 0)
-                json.value(ropt.dislocationConeReach);
-            else
-                json.null();
+            cones ? json.value(ropt.dislocationConeReach) : json.null();
             json.key("dislocation_anchor");
-            if (ropt.dislocationReach > 0) json.value(ropt.dislocationAnchor);
-            else json.null();
+            moves ? json.value(ropt.dislocationAnchor) : json.null();
         }
         json.endObject();
         if (refinement) {

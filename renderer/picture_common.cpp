@@ -32,14 +32,14 @@ bool Visibility::visible(const Vec3 &p, const Vec3 &normal, double slack) const 
     if (px < -1 || py < -1 || px > m_gbuffer.width || py > m_gbuffer.height) return false;
     const double footprint = m_footprintConst + m_footprintPerDepth * d;
     const double tol = slack * (0.004 * m_diagonal + 3.0 * footprint);
+    const bool anyFacing = normal.isZero(0.0); // the overload without a normal
     for (int y = py - 1; y <= py + 1; ++y)
         for (int x = px - 1; x <= px + 1; ++x) {
             if (x < 0 || y < 0 || x >= m_gbuffer.width || y >= m_gbuffer.height) continue;
             const size_t i = size_t(m_gbuffer.index(x, y));
             const int face = m_gbuffer.faceId[i];
             if (face < 0 || d > m_gbuffer.depth[i] + tol) continue;
-            // A zero normal (the overload without one) accepts every facing.
-            if (!(m_gbuffer.mesh->faceNormal(face).dot(normal) < 0)) return true;
+            if (anyFacing || !(m_gbuffer.mesh->faceNormal(face).dot(normal) < 0)) return true;
         }
     return false;
 }

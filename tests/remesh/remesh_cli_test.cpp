@@ -22,6 +22,13 @@ fs::path workDir(const std::string &name) {
     return dir;
 }
 
+/// workDir(name) holding the scene file `file` with the text `yaml`.
+fs::path workDirWith(const std::string &name, const std::string &file, const std::string &yaml) {
+    const fs::path dir = workDir(name);
+    std::ofstream(dir / file) << yaml;
+    return dir;
+}
+
 /// `rosyhatch remesh INPUT -o NAME.obj OPTIONS --report NAME.json --quiet` run in
 /// `dir`: its report, or null (with the failure recorded) when it did not exit 0.
 nlohmann::json remeshReport(const fs::path &dir, const std::string &input, const std::string &options,
@@ -33,8 +40,9 @@ nlohmann::json remeshReport(const fs::path &dir, const std::string &input, const
 }
 
 TEST(RemeshCli, SceneToObjWithReport) {
-    const fs::path dir = workDir("scene");
-    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const fs::path dir =
+        workDirWith("scene", "torus.yaml",
+                    "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n");
     const CliRun r = runRosyhatch(dir, "remesh torus.yaml -o torus.obj --edge 4% --report torus.json --quiet", "ok");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string obj = slurp(dir / "torus.obj");
@@ -139,8 +147,9 @@ TEST(RemeshCli, ACoarseCubeIsRefinedBeforeItsFieldAndRemeshesToAGrid) {
 }
 
 TEST(RemeshCli, PartsThinnerThanTheEdgeAreReportedAndAnEmptyRemeshIsAnError) {
-    const fs::path dir = workDir("thin");
-    std::ofstream(dir / "thin.yaml") << "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.01, nu: 256, nv: 16}\n";
+    const fs::path dir =
+        workDirWith("thin", "thin.yaml",
+                    "mesh: {primitive: torus, major_radius: 1, minor_radius: 0.01, nu: 256, nv: 16}\n");
     {
         const CliRun r = runRosyhatch(dir, "remesh thin.yaml -o kept.obj --report kept.json --quiet", "kept");
         ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -200,8 +209,9 @@ TEST(RemeshCli, AnisotropicScaleFlagReachesTheRemesher) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "a flag's plumbing; the anisotropic scale runs in every sanitized remesh, and the Release suite runs this one";
 #endif
-    const fs::path dir = workDir("aniso");
-    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const fs::path dir =
+        workDirWith("aniso", "torus.yaml",
+                    "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n");
     const CliRun a = runRosyhatch(dir, "remesh torus.yaml -o a.obj --edge 4% --quiet", "a");
     const CliRun b =
         runRosyhatch(dir, "remesh torus.yaml -o b.obj --edge 4% --anisotropic-scale 0 --report b.json --quiet", "b");
@@ -218,8 +228,9 @@ TEST(RemeshCli, DislocationsFlagReachesTheRemesher) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "a flag's plumbing; the moves and `remove` run under the sanitizers in Remesh.*Dislocations*, and the Release suite runs this one";
 #endif
-    const fs::path dir = workDir("dislocations");
-    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const fs::path dir =
+        workDirWith("dislocations", "torus.yaml",
+                    "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n");
     const nlohmann::json ja = remeshReport(dir, "torus.yaml", "--edge 4%", "a");
     const nlohmann::json jb = remeshReport(dir, "torus.yaml", "--edge 4% --dislocations remove", "b");
     ASSERT_FALSE(ja.is_null() || jb.is_null());
@@ -253,9 +264,9 @@ TEST(RemeshCli, RemoveWithTheSmoothestFieldMeetsTheTargetsOnBunny) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "a whole bunny00 remesh; the Release suite runs it";
 #endif
-    const fs::path dir = workDir("remove-smoothest");
-    std::ofstream(dir / "bunny.yaml") << "mesh: " << ROSY_DATA_DIR << "/meshes/bunny00.off\n"
-                                      << "field: {symmetry: 4, source: smoothest}\n";
+    const fs::path dir = workDirWith("remove-smoothest", "bunny.yaml",
+                                     std::string("mesh: ") + ROSY_DATA_DIR + "/meshes/bunny00.off\n" +
+                                         "field: {symmetry: 4, source: smoothest}\n");
     const nlohmann::json j = remeshReport(dir, "bunny.yaml", "--dislocations remove", "b");
     ASSERT_FALSE(j.is_null());
     const auto &q = j["quality"];
@@ -278,9 +289,10 @@ TEST(RemeshCli, DislocationReachReachesTheRemesher) {
 #ifdef ROSY_SANITIZED
     GTEST_SKIP() << "a flag's plumbing; the moves run under the sanitizers in Remesh.*Dislocations*, and the Release suite runs this one";
 #endif
-    const fs::path dir = workDir("reach");
-    std::ofstream(dir / "e.yaml") << "mesh: {primitive: ellipsoid, subdivisions: 4, a: 1.0, b: 0.7, c: 0.5}\n"
-                                      "field: {symmetry: 4}\n";
+    const fs::path dir =
+        workDirWith("reach", "e.yaml",
+                    "mesh: {primitive: ellipsoid, subdivisions: 4, a: 1.0, b: 0.7, c: 0.5}\n"
+                    "field: {symmetry: 4}\n");
     const nlohmann::json ja = remeshReport(dir, "e.yaml", "--edge 3%", "a");
     const nlohmann::json jb = remeshReport(dir, "e.yaml", "--edge 3% --dislocation-reach 1", "b");
     ASSERT_FALSE(ja.is_null() || jb.is_null());
@@ -294,8 +306,9 @@ TEST(RemeshCli, DislocationReachReachesTheRemesher) {
 // cylinder stays open with its χ (0) by default, and is capped (closed, χ 2)
 // with --feature-angle 0; the report carries the angle and the feature counts.
 TEST(RemeshCli, FeatureAngleKeepsAnOpenSurfaceOpen) {
-    const fs::path dir = workDir("features");
-    std::ofstream(dir / "c.yaml") << "mesh: {primitive: cylinder, radius: 1, height: 2, n_around: 48, n_along: 24}\n";
+    const fs::path dir =
+        workDirWith("features", "c.yaml",
+                    "mesh: {primitive: cylinder, radius: 1, height: 2, n_around: 48, n_along: 24}\n");
     const nlohmann::json ja = remeshReport(dir, "c.yaml", "--edge 4%", "a");
     const nlohmann::json jb = remeshReport(dir, "c.yaml", "--edge 4% --feature-angle 0", "b");
     ASSERT_FALSE(ja.is_null() || jb.is_null());
@@ -309,8 +322,9 @@ TEST(RemeshCli, FeatureAngleKeepsAnOpenSurfaceOpen) {
 }
 
 TEST(RemeshCli, SixRosyToOffAndPly) {
-    const fs::path dir = workDir("six");
-    std::ofstream(dir / "s.yaml") << "mesh: {primitive: icosphere, subdivisions: 3}\n";
+    const fs::path dir =
+        workDirWith("six", "s.yaml",
+                    "mesh: {primitive: icosphere, subdivisions: 3}\n");
     for (const char *out : {"s.off", "s.ply"}) {
         const CliRun r = runRosyhatch(dir, std::string("remesh s.yaml -o ") + out + " --symmetry 6 --edge 8% --quiet",
                                       out);
@@ -321,8 +335,9 @@ TEST(RemeshCli, SixRosyToOffAndPly) {
 }
 
 TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
-    const fs::path dir = workDir("bad");
-    std::ofstream(dir / "s.yaml") << "mesh: {primitive: icosphere, subdivisions: 2}\n";
+    const fs::path dir =
+        workDirWith("bad", "s.yaml",
+                    "mesh: {primitive: icosphere, subdivisions: 2}\n");
     std::ofstream(dir / "grid.yaml") << "mesh: {primitive: grid}\n";
     struct Case {
         std::string args, message;
@@ -367,8 +382,9 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
 // --method streamlines: the paper's streamline network, through the same writer and
 // report (remesh/streamline_network.h).
 TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
-    const fs::path dir = workDir("streamlines");
-    std::ofstream(dir / "torus.yaml") << "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n";
+    const fs::path dir =
+        workDirWith("streamlines", "torus.yaml",
+                    "mesh: {primitive: torus, nu: 72, nv: 30}\nfield: {symmetry: 4}\n");
     const CliRun r = runRosyhatch(
         dir, "remesh torus.yaml -o torus.obj --edge 4% --method streamlines --report torus.json --quiet", "ok");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -392,9 +408,10 @@ TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
 
 // --image: a picture of the remeshed surface beside the mesh, raster or SVG pen layers.
 TEST(RemeshCli, ImageOfTheRemeshedSurface) {
-    const fs::path dir = workDir("image");
-    std::ofstream(dir / "c.yaml") << "mesh: {primitive: rounded_cube_pair}\n"
-                                      "camera: {auto: true, direction: [0.6, 0.5, 1.0], resolution: [320, 240]}\n";
+    const fs::path dir =
+        workDirWith("image", "c.yaml",
+                    "mesh: {primitive: rounded_cube_pair}\n"
+                    "camera: {auto: true, direction: [0.6, 0.5, 1.0], resolution: [320, 240]}\n");
     const CliRun a = runRosyhatch(dir, "remesh c.yaml -o c.obj --edge 5% --image c.png --timings t.json --quiet", "img1");
     ASSERT_EQ(a.exitCode, 0) << a.err;
     const std::string png = slurp(dir / "c.png");
