@@ -22,10 +22,13 @@
 #include "scenes/pipeline.h"
 #include "scenes/scene.h"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -40,6 +43,9 @@ struct RemeshCliOptions {
     std::string separatrices = "off";
     std::string method = "position"; ///< --method position|streamlines
     std::vector<std::string> positionOnlyGiven; ///< position-field options given on the command line
+    /// --separatrix-length: multiples of L (the network's own; "inf": full length)
+    std::string separatrixLength = fmt::format("{}", remesh::StreamlineNetworkOptions{}.separatrixLength);
+    bool separatrixLengthGiven = false;
     std::string thinParts = "on";
     std::string refineInput = "on"; ///< --refine-input: remesh::refineCoarseInput() before the field
     std::string dislocations = "move"; ///< --dislocations keep|move|remove (RemeshOptions::dislocationReach)
@@ -159,6 +165,23 @@ void runRemesh(const RemeshCliOptions &opt) {
         throw InputError(FileLoc{opt.positionOnlyGiven.front()},
                          opt.positionOnlyGiven.front() + " is an option of the position field, which --method streamlines does not use",
                          "leave it out, or use --method position");
+    if (opt.separatrixLengthGiven && opt.method != "streamlines")
+        throw InputError(FileLoc{"--separatrix-length"},
+                         "--separatrix-length is an option of the streamline network; the position field pins the "
+                         "lattice at each singularity instead of tracing separatrices",
+                         "leave it out, or use --method streamlines");
+    if (opt.separatrixLengthGiven && opt.separatrices != "on")
+        throw InputError(FileLoc{"--separatrix-length"}, "--separatrix-length needs --separatrices on",
+                         "add --separatrices on, or leave it out");
+    double separatrixLength = std::numeric_limits<double>::infinity();
+    if (opt.separatrixLength != "inf") {
+        char *end = nullptr;
+        separatrixLength = std::strtod(opt.separatrixLength.c_str(), &end);
+        if (opt.separatrixLength.empty() || *end != '\0' || !(separatrixLength > 0) || !std::isfinite(separatrixLength))
+            throw InputError(FileLoc{"--separatrix-length"},
+                             "'" + opt.separatrixLength + "' is not a positive number of edge lengths or inf",
+                             "use e.g. --separatrix-length 6, or inf for full separatrices");
+    }
     if (opt.thinParts != "on" && opt.thinParts != "off")
         throw InputError(FileLoc{"--thin-parts"}, "'" + opt.thinParts + "' is not on or off", "use on or off");
     if (opt.refineInput != "on" && opt.refineInput != "off")
@@ -279,6 +302,7 @@ void runRemesh(const RemeshCliOptions &opt) {
         remesh::StreamlineNetworkOptions sopt;
         sopt.edgeLength = edgeLength;
         sopt.separatrices = ropt.separatrices;
+        sopt.separatrixLength = separatrixLength;
         sopt.maxVertices = opt.common.maxFaces;
         result = remesh::remeshStreamlines(frames, rosyField, sf.field.singularities, sopt);
     } else {
@@ -351,6 +375,9 @@ void runRemesh(const RemeshCliOptions &opt) {
             const remesh::StreamlineNetworkOptions sopt;
             json.field("separatrices", ropt.separatrices).field("feature_angle", ropt.featureAngleDeg);
             json.field("stop_distance", sopt.stopDistance).field("seed_distance", sopt.seedDistance);
+            json.key("separatrix_length"); // multiples of the edge length
+            if (std::isfinite(separatrixLength)) json.value(separatrixLength);
+            else json.value("unbounded");
         } else {
             json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts);
             json.field("adaptive_scale", ropt.scaleStrength);
@@ -422,6 +449,12 @@ void addRemeshCommand(CLI::App &app, Action &action) {
                     "--separatrices on, intersected on the surface), closed surfaces and N = 4 only, kept to "
                     "compare (docs/remeshing.md, The streamline network, measured)")
         ->capture_default_str();
+    sub->add_option("--separatrix-length", opt->separatrixLength,
+                    "K > 0 (default 6), with --method streamlines --separatrices on: each separatrix is traced "
+                    "K edge lengths from its singularity, as the paper does (\"for a certain distance\"), so the "
+                    "singular points get rings of quads; inf: each runs until it stops like any line, beside the "
+                    "separatrices of nearby singularities (docs/remeshing.md, Separatrices in the network)")
+        ->capture_default_str();
     sub->add_option("--refine-input", opt->refineInput,
                     "on (default): when faces with an edge longer than 2 L cover 5 % or more of the input's area, "
                     "its long edges are bisected (the surface unchanged) before the field is built, so the field "
@@ -480,6 +513,7 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         opt->featureAngleGiven = sub->get_option("--feature-angle")->count() > 0;
         opt->dislocationsGiven = sub->get_option("--dislocations")->count() > 0;
         opt->dislocationReachGiven = sub->get_option("--dislocation-reach")->count() > 0;
+        opt->separatrixLengthGiven = sub->get_option("--separatrix-length")->count() > 0;
         opt->positionOnlyGiven.clear();
         for (const char *name : {"--thin-parts", "--adaptive-scale", "--anisotropic-scale", "--dislocations",
                                  "--dislocation-reach"})

@@ -364,14 +364,16 @@ private:
     }
 
     /// The separatrices of every singularity, traced from its position outwards (one
-    /// half line each, in the order of field::traceSeparatrices), cut where they come
-    /// too close to a line running their way, and queued first.
+    /// half line each, in the order of field::traceSeparatrices) for at most
+    /// separatrixLength × L, cut where they come too close to a line running their way,
+    /// and queued first.
     void placeSeparatrices() {
         for (int i = 0; i < int(m_sing.singularities.size()); ++i)
             if (m_sing.singularities[i].indexNumerator != 0) m_singularityOfFace.emplace(m_sing.singularities[i].face, i);
         field::SeparatrixOptions so;
         so.streamline = m_trace;
-        so.streamline.maxLength = 4 * m_diag;
+        // Each for a certain distance (StreamlineNetworkOptions::separatrixLength).
+        so.streamline.maxLength = std::min(4 * m_diag, m_opt.separatrixLength * m_L);
         const std::vector<field::Separatrix> seps = field::traceSeparatrices(m_frames, m_field, m_sing.singularities, so);
         for (const field::Separatrix &sep : seps) {
             if (sep.line.points.size() < 2) continue;
@@ -752,6 +754,9 @@ RemeshResult remeshStreamlines(const field::TangentFrames &frames, const field::
                          "use -n 4, or --method position for 6-RoSy triangle meshes");
     if (!(options.edgeLength > 0) || !std::isfinite(options.edgeLength))
         throw InputError(FileLoc{"--edge"}, "the edge length must be positive and finite", "use e.g. --edge 1%");
+    if (!(options.separatrixLength > 0))
+        throw InputError(FileLoc{"--separatrix-length"}, "the separatrix length must be positive",
+                         "use e.g. --separatrix-length 6 (multiples of the edge length), or inf for full separatrices");
     const Mesh &mesh = frames.mesh();
     for (int h = 0; h < 3 * mesh.nFaces(); ++h)
         if (mesh.twin(h) < 0)

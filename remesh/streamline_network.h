@@ -2,7 +2,8 @@
 /// \file streamline_network.h
 /// The paper's own remesher (Palacios & Zhang 2007, Sec. 6.2, in the manner of Alliez
 /// et al. 2003): evenly spaced streamlines of a 4-RoSy field at spacing L in both of
-/// its directions — the separatrices of every singularity first, when asked —
+/// its directions — the separatrices of every singularity first, when asked, each for
+/// a limited distance as the paper does —
 /// intersected on the surface; the crossings are the vertices, the pieces of line
 /// between consecutive crossings the edges, and the faces come from the rotation
 /// system of the arrangement (at each crossing its edges in counter-clockwise order
@@ -25,6 +26,15 @@ namespace rosy::remesh {
 struct StreamlineNetworkOptions {
     double edgeLength = 0;     ///< L, the spacing of the lines, world units (> 0)
     bool separatrices = false; ///< trace every singularity's separatrices before any other line
+    /// With `separatrices`: each is traced this far (× L) from its singularity, the
+    /// paper's "we first trace all the separatrices for a certain distance"; infinity:
+    /// until it stops like any line. Measured (docs/remeshing.md, "Separatrices in the
+    /// network"): full length, the separatrices of nearby singularities run beside one
+    /// another across the surface and the faces around the singularities are the large
+    /// polygons the paper's Figure 4 shows without them; at 4–6 L the singular points
+    /// get rings of quads (Figure 4's two-ring p90 27–36° → 10–13° at six lengths), for
+    /// more T-junctions where the separatrices end.
+    double separatrixLength = 6;
     /// Jobard and Lefer's d_test: a line stops this close (× L) to a line running its way.
     double stopDistance = 0.5;
     /// Jobard and Lefer's d_sep test for seeds: refused this close (× L) to a line running their way.
@@ -37,7 +47,8 @@ struct StreamlineNetworkOptions {
 
 /// Remeshes the closed surface frames.mesh() along the 4-RoSy `field` with the
 /// streamline network. `singularities` is the field's (findSingularities).
-/// \throws InputError if N is not 4, the edge length is not positive and finite, the
+/// \throws InputError if N is not 4, the edge length or the separatrix length is not
+///   positive (the separatrix length may be infinite), the edge length not finite, the
 ///   mesh has a boundary (the network does not follow boundaries: use the position
 ///   field) or the surface's area over L² exceeds options.maxVertices.
 RemeshResult remeshStreamlines(const field::TangentFrames &frames, const field::RosyField &field,

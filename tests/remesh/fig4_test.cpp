@@ -110,7 +110,9 @@ TEST(Fig4Remesh, SingularitiesAtCornersAndJointAndBothMeshesValid) {
     RecordProperty("singularities_with_irregular_vertex_off", off.singularitiesWithIrregularVertex);
     RecordProperty("singularities_with_irregular_vertex_on", on.singularitiesWithIrregularVertex);
     // The issue also asks for smaller angle deviation near the singularities with
-    // separatrices; it is NOT met (docs/remeshing.md, "Figure 4"), so not asserted.
+    // separatrices; the position field does NOT meet it (docs/remeshing.md, "Figure
+    // 4"), so it is not asserted here. The paper's own method, the streamline network,
+    // does, asserted in StreamlineNetwork.Figure4IsBetterNearItsSingularitiesWithSeparatrices.
     RecordProperty("near_singularities_p90_off", std::to_string(off.angleDevNearSingP90Deg));
     RecordProperty("near_singularities_p90_on", std::to_string(on.angleDevNearSingP90Deg));
     // The same in the issue's own terms (two rings of faces around each singular

@@ -368,6 +368,11 @@ TEST(RemeshCli, RejectedInputExitsTwoAndWritesNothing) {
         {"remesh s.yaml -o out.obj --method streamlines --thin-parts off", "--thin-parts: error:"},
         {"remesh s.yaml -o out.obj --method streamlines --symmetry 6", "-n: error: the streamline network is built for 4-RoSy fields"},
         {"remesh grid.yaml -o out.obj --method streamlines", "error: the streamline network needs a closed surface"},
+        {"remesh s.yaml -o out.obj --separatrices on --separatrix-length 4", "--separatrix-length: error: --separatrix-length is an option of the streamline network"},
+        {"remesh s.yaml -o out.obj --method streamlines --separatrix-length 4", "--separatrix-length: error: --separatrix-length needs --separatrices on"},
+        {"remesh s.yaml -o out.obj --method streamlines --separatrices on --separatrix-length 0", "--separatrix-length: error: '0' is not a positive number"},
+        {"remesh s.yaml -o out.obj --method streamlines --separatrices on --separatrix-length nan", "--separatrix-length: error: 'nan' is not a positive number"},
+        {"remesh s.yaml -o out.obj --method streamlines --separatrices on --separatrix-length 4L", "--separatrix-length: error: '4L' is not a positive number"},
     };
     int k = 0;
     for (const Case &c : cases) {
@@ -392,6 +397,7 @@ TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
     EXPECT_EQ(j["method"], "streamline-network");
     // Its own options, not the position field's.
     EXPECT_EQ(j["options"]["stop_distance"], 0.5);
+    EXPECT_EQ(j["options"]["separatrix_length"], 6); // the default, in edge lengths
     EXPECT_FALSE(j["options"].contains("dislocations"));
     EXPECT_GT(j["repairs"]["lines"].get<int>(), 10);
     EXPECT_GT(j["repairs"]["crossings"].get<int>(), 100);
