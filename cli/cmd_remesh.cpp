@@ -451,9 +451,10 @@ void addRemeshCommand(CLI::App &app, Action &action) {
         ->capture_default_str();
     sub->add_option("--separatrix-length", opt->separatrixLength,
                     "K > 0 (default 6), with --method streamlines --separatrices on: each separatrix is traced "
-                    "K edge lengths from its singularity, as the paper does (\"for a certain distance\"), so the "
-                    "singular points get rings of quads; inf: each runs until it stops like any line, beside the "
-                    "separatrices of nearby singularities (docs/remeshing.md, Separatrices in the network)")
+                    "K edge lengths from its singularity before any other line, as the paper does (\"for a "
+                    "certain distance\"), so the singular points get rings of quads, and runs on from there as an "
+                    "ordinary line; inf: all of each first, beside the separatrices of nearby singularities "
+                    "(docs/remeshing.md, Separatrices in the network)")
         ->capture_default_str();
     sub->add_option("--refine-input", opt->refineInput,
                     "on (default): when faces with an edge longer than 2 L cover 5 % or more of the input's area, "

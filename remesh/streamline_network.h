@@ -26,14 +26,15 @@ namespace rosy::remesh {
 struct StreamlineNetworkOptions {
     double edgeLength = 0;     ///< L, the spacing of the lines, world units (> 0)
     bool separatrices = false; ///< trace every singularity's separatrices before any other line
-    /// With `separatrices`: each is traced this far (× L) from its singularity, the
-    /// paper's "we first trace all the separatrices for a certain distance"; infinity:
-    /// until it stops like any line. Measured (docs/remeshing.md, "Separatrices in the
-    /// network"): full length, the separatrices of nearby singularities run beside one
-    /// another across the surface and the faces around the singularities are the large
-    /// polygons the paper's Figure 4 shows without them; at 4–6 L the singular points
-    /// get rings of quads (Figure 4's two-ring p90 27–36° → 10–13° at six lengths), for
-    /// more T-junctions where the separatrices end.
+    /// With `separatrices`: each is traced this far (× L) from its singularity before
+    /// any other line, the paper's "we first trace all the separatrices for a certain
+    /// distance", and runs on from there as an ordinary line in its turn; infinity: all
+    /// of it first. Measured (docs/remeshing.md, "Separatrices in the network"): all of
+    /// it first, the separatrices of nearby singularities run beside one another across
+    /// the surface and the faces around the singularities are the large polygons the
+    /// paper's Figure 4 shows without them; 6 L first, the singular points get rings of
+    /// quads (Figure 4's two-ring p90 27–36° → 10–14° at six lengths), for more
+    /// irregular vertices.
     double separatrixLength = 6;
     /// Jobard and Lefer's d_test: a line stops this close (× L) to a line running its way.
     double stopDistance = 0.5;
