@@ -375,8 +375,9 @@ void runRemesh(const RemeshCliOptions &opt) {
             const remesh::StreamlineNetworkOptions sopt;
             json.field("separatrices", ropt.separatrices).field("feature_angle", ropt.featureAngleDeg);
             json.field("stop_distance", sopt.stopDistance).field("seed_distance", sopt.seedDistance);
-            json.key("separatrix_length"); // multiples of the edge length
-            if (std::isfinite(separatrixLength)) json.value(separatrixLength);
+            json.key("separatrix_length"); // multiples of the edge length; null without separatrices
+            if (!ropt.separatrices) json.null();
+            else if (std::isfinite(separatrixLength)) json.value(separatrixLength);
             else json.value("unbounded");
         } else {
             json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts);

@@ -1810,6 +1810,14 @@ void holdDistance(std::vector<std::vector<int>> &polygons, std::vector<Vec3> &po
     repairs["far_points_fanned_with_neighbour"] = fannedWithNeighbour;
 }
 
+// `move`, the default, is DislocationOptions' own defaults: one set of numbers, held
+// together here (RemeshOptions cannot name DislocationOptions in its public header).
+static_assert(RemeshOptions{}.dislocationReach == DislocationOptions{}.reach &&
+                  RemeshOptions{}.dislocationConePenalty == DislocationOptions{}.conePenalty &&
+                  RemeshOptions{}.dislocationConeReach == DislocationOptions{}.coneReach &&
+                  RemeshOptions{}.dislocationAnchor == DislocationOptions{}.anchor,
+              "RemeshOptions' dislocation defaults (`move`) must be DislocationOptions' defaults");
+
 } // namespace
 
 void setDislocationMode(RemeshOptions &options, DislocationMode mode) {

@@ -397,7 +397,7 @@ TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
     EXPECT_EQ(j["method"], "streamline-network");
     // Its own options, not the position field's.
     EXPECT_EQ(j["options"]["stop_distance"], 0.5);
-    EXPECT_EQ(j["options"]["separatrix_length"], 6); // the default, in edge lengths
+    EXPECT_TRUE(j["options"]["separatrix_length"].is_null()); // no separatrices asked for
     EXPECT_FALSE(j["options"].contains("dislocations"));
     EXPECT_GT(j["repairs"]["lines"].get<int>(), 10);
     EXPECT_GT(j["repairs"]["crossings"].get<int>(), 100);
@@ -410,6 +410,18 @@ TEST(RemeshCli, StreamlineNetworkToObjWithReport) {
     const std::string obj = slurp(dir / "torus.obj");
     for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
     EXPECT_EQ(faces, q["faces"].get<int>());
+
+    // With separatrices the report names their length (in edge lengths, or unbounded).
+    for (const std::string length : {"4", "inf"}) {
+        const CliRun s = runRosyhatch(dir,
+                                      "remesh torus.yaml -o torus.obj --edge 4% --method streamlines --separatrices on "
+                                      "--separatrix-length " + length + " --report torus.json --quiet",
+                                      "sep" + length);
+        ASSERT_EQ(s.exitCode, 0) << s.err;
+        const nlohmann::json js = nlohmann::json::parse(slurp(dir / "torus.json"));
+        if (length == "4") EXPECT_EQ(js["options"]["separatrix_length"], 4);
+        else EXPECT_EQ(js["options"]["separatrix_length"], "unbounded");
+    }
 }
 
 // --image: a picture of the remeshed surface beside the mesh, raster or SVG pen layers.
