@@ -44,6 +44,9 @@ struct Line {
     /// A separatrix that reached StreamlineNetworkOptions::separatrixLength uncut: it
     /// runs on as an ordinary line once its own seeds are placed (extend()).
     bool extendable = false;
+    /// The last k of the seeds placed every L along it (spawnFrom()); an extended
+    /// separatrix is seeded again only beyond it.
+    int seededTo = std::numeric_limits<int>::min();
 
 };
 
@@ -309,9 +312,10 @@ private:
 
     /// A separatrix that reached its length runs on from its end as the same line, after
     /// the lines seeded along it (the rings of quads about its singularity) are placed,
-    /// stopping like any line; queued again for seeds along what it gained. Without it
-    /// the separatrix's end was a T-junction beside the gap its side lines leave (Figure
-    /// 4 at 1.5-4 %: 70-172 irregular vertices with it ended, 68-132 run on).
+    /// stopping like any line; queued again for seeds along what it gained, and only
+    /// there (Line::seededTo). Without it the separatrix's end was a T-junction beside
+    /// the gap its side lines leave (Figure 4 at 1.5-4 %: 70-172 irregular vertices with
+    /// it ended, 68-132 run on).
     void extend(int l) {
         Line &line = m_lines[l];
         line.extendable = false;
@@ -356,8 +360,11 @@ private:
     /// Seeds along line l every L from its seed: a crossing line through the point,
     /// and lines running its way L to either side (walked along the crossing member).
     void spawnFrom(int l) {
-        const int kMin = int(std::ceil(m_lines[l].arc.front() / m_L));
         const int kMax = int(std::floor(m_lines[l].arc.back() / m_L));
+        const int kMin = m_lines[l].seededTo == std::numeric_limits<int>::min()
+                             ? int(std::ceil(m_lines[l].arc.front() / m_L))
+                             : m_lines[l].seededTo + 1; // only what an extension added
+        m_lines[l].seededTo = kMax;
         // Alternate outward from the seed (0, 1, −1, 2, −2, …) so that the crossing
         // lines start where the line is surest.
         std::vector<int> order;
