@@ -168,8 +168,9 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         nbrs[key.second].push_back(key.first);
     }
     std::vector<Vec3> sing;
+    std::vector<int> singSign; // the sign of each one's index
     for (const field::Singularity &s : singularities.singularities)
-        if (std::abs(s.indexNumerator) == 1) sing.push_back(s.position);
+        if (std::abs(s.indexNumerator) == 1) sing.push_back(s.position), singSign.push_back(s.indexNumerator);
     q.singularities = int(sing.size());
     auto nearestSing = [&](const Vec3 &p) {
         double best = std::numeric_limits<double>::infinity();
@@ -234,6 +235,55 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         }
         for (int v = 0; v < nP; ++v)
             if (irregular(v) && depth[size_t(v)] >= 0) q.irregularWithinTwoRings++;
+    }
+    {
+        // Each singularity's own two rings (its neighbourhood), and in it the irregular
+        // vertices and faces with their defects (regular count minus their own).
+        std::vector<int> faceDefect(polygons.size(), 0);
+        std::vector<std::vector<int>> facesOf(static_cast<size_t>(nP));
+        for (size_t f = 0; f < polygons.size(); ++f) {
+            // Curvature in units of 1/N of a turn: 4 − sides for N = 4, 2 (3 − sides) for
+            // N = 6 (a quad among triangles is two units, as a valence-8 vertex).
+            faceDefect[f] = field.nSym == 6 ? 2 * (3 - int(polygons[f].size())) : 4 - int(polygons[f].size());
+            if (faceDefect[f] != 0)
+                for (int v : polygons[f]) facesOf[size_t(v)].push_back(int(f));
+        }
+        std::vector<int> depth(static_cast<size_t>(nP), -1);
+        for (size_t k = 0; k < sing.size(); ++k) {
+            if (nearestVertex[k] < 0) continue;
+            std::vector<int> reached{nearestVertex[k]}, frontier{nearestVertex[k]};
+            depth[size_t(nearestVertex[k])] = 0;
+            for (int ring = 1; ring <= 2; ++ring) {
+                std::vector<int> next;
+                for (int v : frontier)
+                    for (int w : nbrs[size_t(v)])
+                        if (depth[size_t(w)] < 0) depth[size_t(w)] = ring, next.push_back(w), reached.push_back(w);
+                frontier.swap(next);
+            }
+            int elements = 0, ownSign = 0;
+            bool offByOne = true;
+            auto count = [&](int defect) {
+                ++elements;
+                offByOne = offByOne && std::abs(defect) == 1;
+                ownSign += (defect > 0) == (singSign[k] > 0);
+            };
+            std::vector<int> seenFaces;
+            for (int v : reached) {
+                if (irregular(v)) count(regularValence - int(nbrs[size_t(v)].size()));
+                for (int f : facesOf[size_t(v)]) {
+                    bool inside = true;
+                    for (int w : polygons[size_t(f)]) inside = inside && depth[size_t(w)] >= 0;
+                    if (inside && std::find(seenFaces.begin(), seenFaces.end(), f) == seenFaces.end()) {
+                        seenFaces.push_back(f);
+                        count(faceDefect[size_t(f)]);
+                    }
+                }
+            }
+            int singularitiesHere = 0;
+            for (int v : nearestVertex) singularitiesHere += v >= 0 && depth[size_t(v)] >= 0;
+            q.singularitiesAsOneIrregular += offByOne && ownSign > 0 && elements <= singularitiesHere;
+            for (int v : reached) depth[size_t(v)] = -1;
+        }
     }
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);
     for (char h : singHit) q.singularitiesWithIrregularVertex += h;
@@ -491,6 +541,7 @@ void writeQualityJson(JsonWriter &json, const QualityReport &q) {
     json.field("singularities", q.singularities);
     json.field("singularities_with_irregular_vertex", q.singularitiesWithIrregularVertex);
     json.field("singularities_with_irregular_vertex_or_face", q.singularitiesMarked);
+    json.field("singularities_as_one_irregular", q.singularitiesAsOneIrregular);
     json.endObject();
     json.key("angle_deviation_deg").beginObject();
     json.field("target", q.nSym == 6 ? 60.0 : 90.0);

@@ -71,6 +71,18 @@ struct QualityReport {
     /// Singularities with an irregular vertex or a corner of a non-quad (non-triangle
     /// for N = 6) face within 2 L: issue 20's item 2 asks for every one.
     int singularitiesMarked = 0;
+    /// Item 2 taken at its word: singularities of index ±1/N that end up as one
+    /// irregular vertex or face of their own sign. Within two rings of the output
+    /// vertex nearest the singularity (vertices along edges, as irregularWithinTwoRings;
+    /// faces with every corner there) every irregular vertex or face is off by one
+    /// (valence 3 or 5, a triangle or a pentagon for N = 4; valence 5 or 7 for N = 6,
+    /// where a face other than a triangle is off by two), one of them has the singularity's sign (a vertex or face of fewer edges
+    /// for a positive index), and there are no more of them than singularities whose
+    /// nearest vertex lies within those rings. A cone with a dislocation beside it
+    /// (a valence-5 and a valence-3 vertex next to a valence-5 one), or a valence-6 and
+    /// a valence-3 vertex where one valence-5 vertex belongs, is marked
+    /// (singularitiesMarked) but not counted here.
+    int singularitiesAsOneIrregular = 0;
     // geometry
     double angleDevMedianDeg = 0, angleDevP90Deg = 0;       ///< corners vs 90° (60°)
     double angleDevNearSingMedianDeg = 0, angleDevNearSingP90Deg = 0; ///< corners within 2 L of a singularity

@@ -214,6 +214,69 @@ TEST(Quality, TwoRingsAreCountedAlongEdgesFromTheNearestVertex) {
     EXPECT_EQ(measure(Vec3(1.0, 1.05, 0)).irregularWithinTwoRings, 1);
 }
 
+/// k quads around a centre vertex 0 in the plane z = 0: spokes 1..k on the unit circle,
+/// the quads' outer corners k+1..2k between them at radius 1.5. Only the centre is an
+/// interior vertex (valence k); with `split`, the first quad is cut into two triangles
+/// by its diagonal from the centre, which gives the centre one more edge.
+struct Star {
+    std::vector<Vec3> pts{Vec3::Zero()};
+    std::vector<std::vector<int>> polys;
+    explicit Star(int k, bool split = false) {
+        for (int i = 0; i < k; ++i) pts.emplace_back(std::cos(2 * M_PI * i / k), std::sin(2 * M_PI * i / k), 0);
+        for (int i = 0; i < k; ++i)
+            pts.emplace_back(1.5 * std::cos(2 * M_PI * (i + 0.5) / k), 1.5 * std::sin(2 * M_PI * (i + 0.5) / k), 0);
+        for (int i = 0; i < k; ++i) {
+            const int a = 1 + i, corner = 1 + k + i, b = 1 + (i + 1) % k;
+            if (split && i == 0) {
+                polys.push_back({0, a, corner});
+                polys.push_back({0, corner, b});
+            } else {
+                polys.push_back({0, a, corner, b});
+            }
+        }
+    }
+};
+
+// Item 2 at its word: a singularity ends up as one irregular vertex or face of its own
+// sign, off by one. A valence-5 centre is a −1/4 cone and no +1/4 one; a valence-3 one
+// the reverse; a valence-6 centre (two units) is marked but not one irregular; nor is
+// a valence-6 centre beside a triangle pair (three irregular elements for one
+// singularity), though each of them is within two rings.
+TEST(Quality, ASingularityEndsUpAsOneIrregularVertexOfItsOwnSignOrNot) {
+    Fixture fx;
+    auto measure = [&](const Star &star, int k) {
+        field::Singularity s;
+        s.indexNumerator = k;
+        s.position = Vec3(0.05, 0.02, 0);
+        fx.sing.singularities.assign(1, s);
+        return measureQuality(star.pts, star.polys, fx.frames, fx.field, fx.sing, 1.0);
+    };
+    const QualityReport five = measure(Star(5), -1);
+    EXPECT_EQ(five.irregularVertices, 1);
+    EXPECT_EQ(five.singularitiesMarked, 1);
+    EXPECT_EQ(five.singularitiesAsOneIrregular, 1);
+    EXPECT_EQ(measure(Star(5), +1).singularitiesAsOneIrregular, 0);
+    EXPECT_EQ(measure(Star(3), +1).singularitiesAsOneIrregular, 1);
+    EXPECT_EQ(measure(Star(3), -1).singularitiesAsOneIrregular, 0);
+    const QualityReport six = measure(Star(6), -1);
+    EXPECT_EQ(six.singularitiesMarked, 1);
+    EXPECT_EQ(six.irregularWithinTwoRings, 1);
+    EXPECT_EQ(six.singularitiesAsOneIrregular, 0);
+    // Five quads with one cut: the centre has valence 6 and two triangles touch it.
+    const QualityReport cut = measure(Star(5, true), -1);
+    EXPECT_EQ(cut.irregularVertices, 1);
+    EXPECT_EQ(cut.facesBySides.at(3), 2);
+    EXPECT_EQ(cut.singularitiesAsOneIrregular, 0);
+    // The regular grid with its corner cut (CutCornerGrid): no singularity is one
+    // irregular element where it has none, however near it lies.
+    const CutCornerGrid grid(false);
+    field::Singularity s;
+    s.indexNumerator = -1;
+    s.position = Vec3(2.0, 2.0, 0);
+    fx.sing.singularities.assign(1, s);
+    EXPECT_EQ(measureQuality(grid.pts, grid.polys, fx.frames, fx.field, fx.sing, 1.0).singularitiesAsOneIrregular, 0);
+}
+
 TEST(Quality, FlippedFaceIsInconsistentAndFlipped) {
     Fixture fx;
     auto quads = cubeQuads();
