@@ -328,11 +328,18 @@ void runRemesh(const RemeshCliOptions &opt) {
         // The remeshed surface through the scene's camera (a bare mesh's automatic
         // one), with the field's singularities as rings (renderer/mesh_picture.h).
         t0 = Clock::now();
-        std::vector<field::Vec3> singular;
-        for (const field::Singularity &s : sf.field.singularities.singularities)
-            if (s.indexNumerator != 0) singular.push_back(s.position);
+        // Singularities of index ±1/N that did not end up as one irregular vertex or
+        // face get a second ring (the report's singularities_as_one_irregular).
         renderer::MeshPictureOptions mpo;
         mpo.regularSides = nSym == 6 ? 3 : 4;
+        std::vector<field::Vec3> singular;
+        size_t firstOrder = 0;
+        for (const field::Singularity &s : sf.field.singularities.singularities) {
+            if (s.indexNumerator == 0) continue;
+            singular.push_back(s.position);
+            const bool judged = std::abs(s.indexNumerator) == 1 && firstOrder < quality.singularityAsOneIrregular.size();
+            mpo.singularityAsOne.push_back(judged ? quality.singularityAsOneIrregular[firstOrder++] : 1);
+        }
         const renderer::FieldDrawing drawing =
             renderer::drawMeshPicture(result.positions, result.polygons, singular, sf.loaded.scene->camera, mpo);
         if (imageSvg) {

@@ -249,6 +249,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
                 for (int v : polygons[f]) facesOf[size_t(v)].push_back(int(f));
         }
         std::vector<int> depth(static_cast<size_t>(nP), -1);
+        q.singularityAsOneIrregular.assign(sing.size(), 0);
         for (size_t k = 0; k < sing.size(); ++k) {
             if (nearestVertex[k] < 0) continue;
             std::vector<int> reached{nearestVertex[k]}, frontier{nearestVertex[k]};
@@ -281,7 +282,8 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             }
             int singularitiesHere = 0;
             for (int v : nearestVertex) singularitiesHere += v >= 0 && depth[size_t(v)] >= 0;
-            q.singularitiesAsOneIrregular += offByOne && ownSign > 0 && elements <= singularitiesHere;
+            q.singularityAsOneIrregular[k] = offByOne && ownSign > 0 && elements <= singularitiesHere;
+            q.singularitiesAsOneIrregular += q.singularityAsOneIrregular[k];
             for (int v : reached) depth[size_t(v)] = -1;
         }
     }

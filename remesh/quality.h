@@ -83,6 +83,8 @@ struct QualityReport {
     /// a valence-3 vertex where one valence-5 vertex belongs, is marked
     /// (singularitiesMarked) but not counted here.
     int singularitiesAsOneIrregular = 0;
+    /// The same per singularity of index ±1/N, in the order of the report's singularities.
+    std::vector<char> singularityAsOneIrregular;
     // geometry
     double angleDevMedianDeg = 0, angleDevP90Deg = 0;       ///< corners vs 90° (60°)
     double angleDevNearSingMedianDeg = 0, angleDevNearSingP90Deg = 0; ///< corners within 2 L of a singularity

@@ -18,6 +18,10 @@
 namespace rosy::renderer {
 namespace {
 
+/// The second ring of a singularity that did not end up as one irregular element,
+/// as a share of the ring's radius.
+constexpr double kInnerRingRatio = 0.55;
+
 /// A closed circle of radius r around `centre` as one stroke (48 segments).
 Stroke ring(const Vec2 &centre, double r, double widthPx, uint32_t id) {
     Stroke s;
@@ -37,6 +41,10 @@ FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vect
                              const std::vector<Vec3> &singularityPositions, const Camera &camera,
                              const MeshPictureOptions &options) {
     const int nV = int(positions.size());
+    if (!options.singularityAsOne.empty() && options.singularityAsOne.size() != singularityPositions.size())
+        throw std::invalid_argument("drawMeshPicture: " + std::to_string(options.singularityAsOne.size()) +
+                                    " singularity flags for " + std::to_string(singularityPositions.size()) +
+                                    " singularities");
     for (size_t p = 0; p < polygons.size(); ++p) {
         if (polygons[p].size() < 3)
             throw std::invalid_argument("drawMeshPicture: polygon " + std::to_string(p) + " has fewer than 3 vertices");
@@ -165,10 +173,15 @@ FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vect
     drawing.inks.back().minRasterWidthPx = 0.8;
 
     std::vector<Stroke> rings;
-    for (const Vec3 &p : singularityPositions)
-        if (vis.visible(p, 1.5))
-            rings.push_back(ring(camera.project(p), options.ringRadiusPx * sizeScale, options.ringWidthPx * sizeScale,
+    for (size_t k = 0; k < singularityPositions.size(); ++k) {
+        const Vec3 &p = singularityPositions[k];
+        if (!vis.visible(p, 1.5)) continue;
+        const Vec2 c = camera.project(p);
+        rings.push_back(ring(c, options.ringRadiusPx * sizeScale, options.ringWidthPx * sizeScale, uint32_t(rings.size())));
+        if (!options.singularityAsOne.empty() && !options.singularityAsOne[k])
+            rings.push_back(ring(c, kInnerRingRatio * options.ringRadiusPx * sizeScale, options.ringWidthPx * sizeScale,
                                  uint32_t(rings.size())));
+    }
     ink("field singularities", options.ringColor, StrokeKind::Hatch, 1, std::move(rings));
 
     const int regularValence = options.regularSides == 3 ? 6 : 4;

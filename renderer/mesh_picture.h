@@ -42,6 +42,10 @@ struct MeshPictureOptions {
     styles::Rgb highValenceColor{0.9, 0.03, 0.02};
     styles::Rgb otherFaceTint{1.0, 0.72, 0.32};
     styles::Rgb ringColor{0.0, 0.0, 0.0};
+    /// Per entry of singularityPositions (or empty): 0 for a singularity that did not
+    /// end up as one irregular vertex or face of its own sign (the remesh report's
+    /// `singularities_as_one_irregular`), drawn with a second ring inside its ring.
+    std::vector<char> singularityAsOne;
 };
 
 /// Draws the polygon mesh (positions, counter-clockwise polygons of >= 3 valid,
@@ -49,9 +53,11 @@ struct MeshPictureOptions {
 /// `camera`, with hidden parts removed against the mesh's own G-buffer. Each
 /// polygon is drawn as a fan around its centroid, so any manifold polygon mesh
 /// shades without new edges. `singularityPositions` (may be empty): world points
-/// drawn as rings where the surface there is visible. Deterministic.
+/// drawn as rings where the surface there is visible, doubled where
+/// options.singularityAsOne says 0. Deterministic.
 /// \throws std::invalid_argument for a polygon with fewer than 3 vertices or an
-///   index out of range.
+///   index out of range, or options.singularityAsOne neither empty nor of
+///   singularityPositions' size.
 FieldDrawing drawMeshPicture(const std::vector<Vec3> &positions, const std::vector<std::vector<int>> &polygons,
                              const std::vector<Vec3> &singularityPositions, const Camera &camera,
                              const MeshPictureOptions &options = {});

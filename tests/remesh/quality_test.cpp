@@ -255,6 +255,7 @@ TEST(Quality, ASingularityEndsUpAsOneIrregularVertexOfItsOwnSignOrNot) {
     EXPECT_EQ(five.irregularVertices, 1);
     EXPECT_EQ(five.singularitiesMarked, 1);
     EXPECT_EQ(five.singularitiesAsOneIrregular, 1);
+    EXPECT_EQ(five.singularityAsOneIrregular, std::vector<char>{1});
     EXPECT_EQ(measure(Star(5), +1).singularitiesAsOneIrregular, 0);
     EXPECT_EQ(measure(Star(3), +1).singularitiesAsOneIrregular, 1);
     EXPECT_EQ(measure(Star(3), -1).singularitiesAsOneIrregular, 0);
@@ -262,6 +263,7 @@ TEST(Quality, ASingularityEndsUpAsOneIrregularVertexOfItsOwnSignOrNot) {
     EXPECT_EQ(six.singularitiesMarked, 1);
     EXPECT_EQ(six.irregularWithinTwoRings, 1);
     EXPECT_EQ(six.singularitiesAsOneIrregular, 0);
+    EXPECT_EQ(six.singularityAsOneIrregular, std::vector<char>{0});
     // Five quads with one cut: the centre has valence 6 and two triangles touch it.
     const QualityReport cut = measure(Star(5, true), -1);
     EXPECT_EQ(cut.irregularVertices, 1);

@@ -106,6 +106,28 @@ TEST(MeshPicture, RingsOnlyWhereTheSurfaceIsSeen) {
     EXPECT_NEAR((rings[0].points.front() - rings[0].points.back()).norm(), 0.0, 1e-9);
 }
 
+// A singularity flagged as not one irregular element gets a second ring inside its
+// ring, about the same point; flags of the wrong count are refused.
+TEST(MeshPicture, ASingularityNotEndingAsOneIrregularElementGetsASecondRing) {
+    const std::vector<Vec3> singular{{0.5, 0.5, 0.5}, {0.5, 0.0, 0.0}};
+    MeshPictureOptions options;
+    options.singularityAsOne = {1, 0};
+    const FieldDrawing d = drawMeshPicture(cubeCorners(), cubeQuads(), singular, cornerCamera(), options);
+    const auto &rings = inkNamed(d, "field singularities").strokes.strokes;
+    ASSERT_EQ(rings.size(), 3u);
+    auto radius = [&](const Stroke &r, const Vec3 &p) { return (r.points.front() - cornerCamera().project(p)).norm(); };
+    const double outer = radius(rings[1], singular[1]), inner = radius(rings[2], singular[1]);
+    EXPECT_NEAR(radius(rings[0], singular[0]), outer, 1e-9);
+    EXPECT_GT(inner, 0.3 * outer);
+    EXPECT_LT(inner, 0.8 * outer);
+    // Unflagged (empty) draws one ring each, as before.
+    EXPECT_EQ(inkNamed(drawMeshPicture(cubeCorners(), cubeQuads(), singular, cornerCamera()), "field singularities")
+                  .strokes.strokes.size(),
+              2u);
+    options.singularityAsOne = {1};
+    EXPECT_THROW(drawMeshPicture(cubeCorners(), cubeQuads(), singular, cornerCamera(), options), std::invalid_argument);
+}
+
 TEST(MeshPicture, VectorInksAreThePenLayersAndRasterizeDarkerThanTheFill) {
     const FieldDrawing d = drawMeshPicture(cubeCorners(), cubeQuads(), {Vec3(0.5, 0.5, 0.5)}, cornerCamera());
     const StrokeList all = fieldPictureStrokes(d);
