@@ -76,12 +76,12 @@ struct QualityReport {
     /// vertex nearest the singularity (vertices along edges, as irregularWithinTwoRings;
     /// faces with every corner there) every irregular vertex or face is off by one
     /// (valence 3 or 5, a triangle or a pentagon for N = 4; valence 5 or 7 for N = 6,
-    /// where a face other than a triangle is off by two), one of them has the singularity's sign (a vertex or face of fewer edges
-    /// for a positive index), and there are no more of them than singularities whose
-    /// nearest vertex lies within those rings. A cone with a dislocation beside it
-    /// (a valence-5 and a valence-3 vertex next to a valence-5 one), or a valence-6 and
-    /// a valence-3 vertex where one valence-5 vertex belongs, is marked
-    /// (singularitiesMarked) but not counted here.
+    /// where a face other than a triangle is off by two), one of them has the
+    /// singularity's sign (fewer edges for a positive index), and there are no more of
+    /// them than singularities whose nearest vertex lies within those rings. A cone with
+    /// a dislocation beside it (its valence-5 vertex with another valence-5 and a
+    /// valence-3 vertex next to it), or a valence-6 and a valence-3 vertex where one
+    /// valence-5 vertex belongs, is marked (singularitiesMarked) but not counted here.
     int singularitiesAsOneIrregular = 0;
     /// The same per singularity of index ±1/N, in the order of the report's singularities.
     std::vector<char> singularityAsOneIrregular;
