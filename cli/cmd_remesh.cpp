@@ -361,10 +361,12 @@ void runRemesh(const RemeshCliOptions &opt) {
     if (imageMs >= 0) ms.emplace_back("image", imageMs);
     ms.emplace_back("total", std::chrono::duration<double, std::milli>(Clock::now() - tStart).count());
     if (!opt.common.quiet) {
-        std::printf("%s: %d vertices, %d faces (%.1f %% %s), %d irregular vertices, angle deviation p90 %.1f deg, "
+        std::printf("%s: %d vertices, %d faces (%.1f %% %s), %d irregular vertices (%d of %d singularities as one), "
+                    "angle deviation p90 %.1f deg, "
                     "edge CV %.3f, distance %.2f %% / %.2f %% of the diagonal; %s, %s, chi %d (input %d)\n",
                     opt.output.c_str(), quality.vertices, quality.faces, 100 * quality.regularFaceFraction,
-                    nSym == 6 ? "triangles" : "quads", quality.irregularVertices, quality.angleDevP90Deg,
+                    nSym == 6 ? "triangles" : "quads", quality.irregularVertices, quality.singularitiesAsOneIrregular,
+                    quality.singularities, quality.angleDevP90Deg,
                     quality.edgeLengthCv, quality.distanceOutToInPct, quality.distanceInToOutPct,
                     quality.closed ? "closed" : "open", quality.manifold && quality.oriented ? "manifold, oriented"
                                                                                               : "NOT manifold/oriented",
