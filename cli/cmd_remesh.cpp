@@ -333,13 +333,12 @@ void runRemesh(const RemeshCliOptions &opt) {
         renderer::MeshPictureOptions mpo;
         mpo.regularSides = nSym == 6 ? 3 : 4;
         std::vector<field::Vec3> singular;
-        size_t firstOrder = 0;
-        for (const field::Singularity &s : sf.field.singularities.singularities) {
-            if (s.indexNumerator == 0) continue;
-            singular.push_back(s.position);
-            const bool judged = std::abs(s.indexNumerator) == 1 && firstOrder < quality.singularityAsOneIrregular.size();
-            mpo.singularityAsOne.push_back(judged ? quality.singularityAsOneIrregular[firstOrder++] : 1);
-        }
+        const std::vector<field::Singularity> &all = sf.field.singularities.singularities;
+        for (size_t i = 0; i < all.size(); ++i)
+            if (all[i].indexNumerator != 0) {
+                singular.push_back(all[i].position);
+                mpo.singularityAsOne.push_back(quality.singularityAsOneIrregular[i]);
+            }
         const renderer::FieldDrawing drawing =
             renderer::drawMeshPicture(result.positions, result.polygons, singular, sf.loaded.scene->camera, mpo);
         if (imageSvg) {
@@ -374,6 +373,11 @@ void runRemesh(const RemeshCliOptions &opt) {
     }
     if (!opt.reportPath.empty()) {
         JsonWriter json;
+        // A reach or length that may be infinite: the number, or "unbounded".
+        auto valueOrUnbounded = [&](double v) {
+            if (std::isfinite(v)) json.value(v);
+            else json.value("unbounded");
+        };
         json.beginObject();
         json.field("input", opt.input).field("output", opt.output);
         json.field("method", opt.method == "streamlines" ? "streamline-network" : "position-field");
@@ -386,16 +390,14 @@ void runRemesh(const RemeshCliOptions &opt) {
             json.field("stop_distance", sopt.stopDistance).field("seed_distance", sopt.seedDistance);
             json.key("separatrix_length"); // multiples of the edge length; null without separatrices
             if (!ropt.separatrices) json.null();
-            else if (std::isfinite(separatrixLength)) json.value(separatrixLength);
-            else json.value("unbounded");
+            else valueOrUnbounded(separatrixLength);
         } else {
             json.field("separatrices", ropt.separatrices).field("thin_parts", ropt.thinParts);
             json.field("adaptive_scale", ropt.scaleStrength);
             json.field("anisotropic_scale", ropt.anisotropicScale).field("feature_angle", ropt.featureAngleDeg);
             json.field("dislocations", ropt.dislocationReach > 0 ? opt.dislocations : std::string("keep"));
             json.key("dislocation_reach");
-            if (std::isfinite(ropt.dislocationReach)) json.value(ropt.dislocationReach);
-            else json.value("unbounded");
+            valueOrUnbounded(ropt.dislocationReach);
             // The cone settings count only where cones may take lone units (`remove`),
             // the pull wherever units move.
             const bool moves = ropt.dislocationReach > 0;

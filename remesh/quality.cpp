@@ -168,9 +168,12 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
         nbrs[key.second].push_back(key.first);
     }
     std::vector<Vec3> sing;
-    std::vector<int> singSign; // the sign of each one's index
-    for (const field::Singularity &s : singularities.singularities)
-        if (std::abs(s.indexNumerator) == 1) sing.push_back(s.position), singSign.push_back(s.indexNumerator);
+    std::vector<int> singSign, singIndex; // each one's index sign and place in `singularities`
+    for (size_t i = 0; i < singularities.singularities.size(); ++i) {
+        const field::Singularity &s = singularities.singularities[i];
+        if (std::abs(s.indexNumerator) != 1) continue;
+        sing.push_back(s.position), singSign.push_back(s.indexNumerator), singIndex.push_back(int(i));
+    }
     q.singularities = int(sing.size());
     auto nearestSing = [&](const Vec3 &p) {
         double best = std::numeric_limits<double>::infinity();
@@ -214,27 +217,30 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             if (d < bestD) bestD = d, nearestVertex[k] = v;
         }
     }
-    {
-        // Two rings along the edges from each singularity's nearest output vertex: a
-        // breadth-first search from all of them at once, to depth 2.
-        std::vector<int> depth(static_cast<size_t>(nP), -1), frontier;
-        for (int v : nearestVertex)
-            if (v >= 0 && depth[size_t(v)] < 0) {
-                depth[size_t(v)] = 0;
-                frontier.push_back(v);
-            }
+    // The vertices within two rings (along edges) of `sources`, breadth first; each
+    // gets its ring in `depth` (-1 elsewhere, as the caller keeps it between calls).
+    std::vector<int> depth(static_cast<size_t>(nP), -1);
+    auto twoRings = [&](const std::vector<int> &sources) {
+        std::vector<int> reached, frontier;
+        for (int v : sources)
+            if (v >= 0 && depth[size_t(v)] < 0) depth[size_t(v)] = 0, frontier.push_back(v), reached.push_back(v);
         for (int ring = 1; ring <= 2; ++ring) {
             std::vector<int> next;
             for (int v : frontier)
                 for (int w : nbrs[size_t(v)])
-                    if (depth[size_t(w)] < 0) {
-                        depth[size_t(w)] = ring;
-                        next.push_back(w);
-                    }
+                    if (depth[size_t(w)] < 0) depth[size_t(w)] = ring, next.push_back(w), reached.push_back(w);
             frontier.swap(next);
         }
-        for (int v = 0; v < nP; ++v)
-            if (irregular(v) && depth[size_t(v)] >= 0) q.irregularWithinTwoRings++;
+        return reached;
+    };
+    auto clearRings = [&](const std::vector<int> &reached) {
+        for (int v : reached) depth[size_t(v)] = -1;
+    };
+    {
+        // Two rings from every singularity's nearest output vertex at once.
+        const std::vector<int> reached = twoRings(nearestVertex);
+        for (int v : reached) q.irregularWithinTwoRings += irregular(v);
+        clearRings(reached);
     }
     {
         // Each singularity's own two rings (its neighbourhood), and in it the irregular
@@ -248,20 +254,16 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             if (faceDefect[f] != 0)
                 for (int v : polygons[f]) facesOf[size_t(v)].push_back(int(f));
         }
-        std::vector<int> depth(static_cast<size_t>(nP), -1);
-        q.singularityAsOneIrregular.assign(sing.size(), 0);
+        std::vector<int> singularitiesAt(static_cast<size_t>(nP), 0); // singularities nearest each vertex
+        for (int v : nearestVertex)
+            if (v >= 0) ++singularitiesAt[size_t(v)];
+        q.singularityAsOneIrregular.assign(singularities.singularities.size(), 1); // 1: not judged
         for (size_t k = 0; k < sing.size(); ++k) {
+            char &asOne = q.singularityAsOneIrregular[size_t(singIndex[k])];
+            asOne = 0;
             if (nearestVertex[k] < 0) continue;
-            std::vector<int> reached{nearestVertex[k]}, frontier{nearestVertex[k]};
-            depth[size_t(nearestVertex[k])] = 0;
-            for (int ring = 1; ring <= 2; ++ring) {
-                std::vector<int> next;
-                for (int v : frontier)
-                    for (int w : nbrs[size_t(v)])
-                        if (depth[size_t(w)] < 0) depth[size_t(w)] = ring, next.push_back(w), reached.push_back(w);
-                frontier.swap(next);
-            }
-            int elements = 0, ownSign = 0;
+            const std::vector<int> reached = twoRings({nearestVertex[k]});
+            int elements = 0, ownSign = 0, singularitiesHere = 0;
             bool offByOne = true;
             auto count = [&](int defect) {
                 ++elements;
@@ -270,6 +272,7 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
             };
             std::vector<int> seenFaces;
             for (int v : reached) {
+                singularitiesHere += singularitiesAt[size_t(v)];
                 if (irregular(v)) count(regularValence - int(nbrs[size_t(v)].size()));
                 for (int f : facesOf[size_t(v)]) {
                     bool inside = true;
@@ -280,11 +283,9 @@ QualityReport measureQuality(const std::vector<Vec3> &positions, const std::vect
                     }
                 }
             }
-            int singularitiesHere = 0;
-            for (int v : nearestVertex) singularitiesHere += v >= 0 && depth[size_t(v)] >= 0;
-            q.singularityAsOneIrregular[k] = offByOne && ownSign > 0 && elements <= singularitiesHere;
-            q.singularitiesAsOneIrregular += q.singularityAsOneIrregular[k];
-            for (int v : reached) depth[size_t(v)] = -1;
+            asOne = offByOne && ownSign > 0 && elements <= singularitiesHere;
+            q.singularitiesAsOneIrregular += asOne;
+            clearRings(reached);
         }
     }
     q.irregularDistanceMedianL = percentile(irregularDist, 0.5);

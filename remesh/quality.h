@@ -83,7 +83,8 @@ struct QualityReport {
     /// valence-3 vertex next to it), or a valence-6 and a valence-3 vertex where one
     /// valence-5 vertex belongs, is marked (singularitiesMarked) but not counted here.
     int singularitiesAsOneIrregular = 0;
-    /// The same per singularity of index ±1/N, in the order of the report's singularities.
+    /// The same per singularity of the SingularityReport measured against, in its order
+    /// (1 for those of other indices, which are not judged).
     std::vector<char> singularityAsOneIrregular;
     // geometry
     double angleDevMedianDeg = 0, angleDevP90Deg = 0;       ///< corners vs 90° (60°)
